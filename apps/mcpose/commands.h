@@ -1,0 +1,22 @@
+// The mcpose command-line tool: parsing and printing only; all work is in the library.
+#pragma once
+
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "mcpose/status.h"
+
+namespace mcpose::cli {
+
+// Each Add* registers a subcommand; its callback stores the command's Status in *status.
+void AddEstimateCommand(CLI::App& app, Status* status);
+void AddDetectionsFromGtCommand(CLI::App& app, Status* status);
+void AddEvalCommand(CLI::App& app, Status* status);
+
+// Writes `text` to `path` through a temporary file and a rename: no partial file on error.
+Status WriteFileAtomically(const std::string& path, const std::string& text);
+// Ok if a file could be created at `path` (its folder exists and is writable).
+Status CheckWritable(const std::string& path);
+
+}  // namespace mcpose::cli

@@ -1,0 +1,74 @@
+// Datasets: the YCB-Video native layout and the BOP layout behind one interface.
+//
+// Ids are BOP ids in both layouts: scene_id = video number (data/0049 -> 49), image_id = frame
+// number (000001 -> 1), obj_id = YCB-Video cls_index (1-based line of classes.txt).
+// Everything comes out in metres, whatever the file stores.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "mcpose/camera.h"
+#include "mcpose/image.h"
+#include "mcpose/mesh.h"
+#include "mcpose/se3.h"
+#include "mcpose/status.h"
+
+namespace mcpose {
+
+struct FrameKey {
+  int scene_id = 0;
+  int image_id = 0;
+  auto operator<=>(const FrameKey&) const = default;
+};
+
+struct GtInstance {
+  int obj_id = 0;
+  int gt_index = 0;  // position in meta.mat / scene_gt.json
+  SE3 T_cam_obj;     // metres
+};
+
+struct Frame {
+  FrameKey key;
+  Intrinsics K;
+  DepthImage depth;  // metres
+  std::vector<GtInstance> gt;
+  std::string depth_path;  // for error messages
+};
+
+enum class DatasetFormat { kYcbv, kBop };
+
+class Dataset {
+ public:
+  virtual ~Dataset() = default;
+
+  // Detects the layout of `root`: YCB-Video if it holds classes.txt and data/, BOP if it holds
+  // models/models_info.json and a `split` folder. Errors name the folder and what is missing.
+  static StatusOr<std::unique_ptr<Dataset>> Open(const std::string& root,
+                                                 const std::string& split = "test");
+
+  virtual DatasetFormat format() const = 0;
+  virtual const std::string& root() const = 0;
+
+  // All frames with ground truth, sorted by (scene_id, image_id).
+  virtual std::vector<FrameKey> Frames() const = 0;
+  // Depth (metres), intrinsics and ground truth of one frame. Validates the depth PNG
+  // (16-bit, one channel, size matching the intrinsics) and the intrinsics.
+  virtual StatusOr<Frame> LoadFrame(const FrameKey& key) const = 0;
+  // Visible-part mask of ground-truth instance `gt_index` (label.png == obj_id in YCB-Video,
+  // mask_visib/ in BOP). An all-zero mask is valid (object out of view).
+  virtual StatusOr<MaskImage> LoadVisibleMask(const FrameKey& key, const GtInstance& gt) const = 0;
+
+  // obj_ids of the models this dataset has, sorted.
+  virtual std::vector<int> ObjectIds() const = 0;
+  // "003_cracker_box" for YCB-Video; for BOP the YCB-Video name when the ids are YCB-Video's
+  // (21 models), else "obj_000003".
+  virtual std::string ObjectName(int obj_id) const = 0;
+  // The model mesh in metres, validated (Mesh::Validate). Unknown obj_id is an error.
+  virtual StatusOr<Mesh> LoadMesh(int obj_id) const = 0;
+  // Points used by ADD / ADD-S, metres: points.xyz (YCB-Video) or the model vertices (BOP).
+  virtual StatusOr<std::vector<Eigen::Vector3f>> LoadEvalPoints(int obj_id) const = 0;
+};
+
+}  // namespace mcpose

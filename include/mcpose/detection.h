@@ -1,0 +1,28 @@
+// 2D detections in the BOP default-detections format.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "mcpose/status.h"
+
+namespace mcpose {
+
+struct Detection {
+  int scene_id = 0;
+  int image_id = 0;
+  int obj_id = 0;        // = category_id
+  double score = 0;      // detector confidence in (0, 1]
+  double x = 0, y = 0;   // top-left corner of the box, pixels (BOP "bbox": [x, y, w, h])
+  double w = 0, h = 0;   // box size, pixels
+  double time_s = -1;    // detector time for the image, < 0 if absent
+};
+
+// Reads a BOP detections JSON file: a list of {"scene_id", "image_id", "category_id", "score",
+// "bbox": [x, y, w, h], "time" (optional)}. Errors name the file and the offending entry.
+StatusOr<std::vector<Detection>> ReadDetectionsJson(const std::string& path);
+
+// Writes the same format. Written to a temporary file and renamed: no partial file on error.
+Status WriteDetectionsJson(const std::string& path, const std::vector<Detection>& detections);
+
+}  // namespace mcpose

@@ -1,0 +1,68 @@
+// The Monte-Carlo pose estimator: one object class of one image at a time.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "mcpose/camera.h"
+#include "mcpose/detection.h"
+#include "mcpose/image.h"
+#include "mcpose/mesh.h"
+#include "mcpose/options.h"
+#include "mcpose/se3.h"
+#include "mcpose/status.h"
+
+namespace mcpose {
+
+// Engine counters of one object's run, summed over iterations.
+struct EngineCounters {
+  int64_t triangles_in = 0;            // triangles submitted to the raster cores
+  int64_t culled_backface = 0;
+  int64_t culled_degenerate = 0;
+  int64_t culled_outside_box = 0;      // bounding box misses the sample's box
+  int64_t culled_near = 0;             // a vertex behind the near plane
+  int64_t culled_between_pixels = 0;   // covers no pixel centre
+  int64_t triangles_rasterized = 0;    // covered at least one pixel centre
+  int64_t fragments = 0;               // pixel centres covered (before the depth test)
+  int64_t cdf_draws = 0;
+  int64_t cdf_reads = 0;               // CDF entries read with the coarse table + fine search
+  int64_t cdf_reads_naive = 0;         // entries a linear search from the start would read
+  int64_t depth_bytes_read = 0;        // observed depth bytes read by the depth distributor
+  int64_t depth_bytes_read_naive = 0;  // bytes a per-sample copy of the box would read
+};
+
+struct ObjectEstimate {
+  int obj_id = 0;
+  SE3 T_cam_obj;                  // the best-weighted sample ever seen
+  double best_weight = 0;
+  double final_mean_weight = 0;
+  int iterations = 0;             // iterations run (scored generations)
+  int best_box = -1;              // index into the boxes passed in
+  std::vector<double> mean_weight_history;  // one entry per iteration
+  EngineCounters counters;
+};
+
+class Estimator {
+ public:
+  // Fails if the options are invalid (the message names the field).
+  static StatusOr<std::unique_ptr<Estimator>> Create(const EstimatorOptions& options);
+  ~Estimator();
+
+  // Estimates the pose of one object class from all its boxes in one image. Boxes must lie at
+  // least partly inside the image and have positive size; a box is clipped to the image.
+  // `stream_id` selects independent random streams (e.g. a hash of image and class), so the
+  // result depends on (seed, stream_id) only, never on the thread count.
+  StatusOr<ObjectEstimate> Estimate(const Intrinsics& K, const DepthImage& depth, const Mesh& mesh,
+                                    std::span<const Detection> boxes, uint64_t stream_id);
+
+  const EstimatorOptions& options() const;
+
+ private:
+  struct Impl;
+  explicit Estimator(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace mcpose

@@ -1,0 +1,63 @@
+// Options of the Monte-Carlo pose estimator. Every field has a documented default;
+// EstimatorOptions::IsValid explains the first invalid field.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace mcpose {
+
+// How a rendered pixel is tested against the observed depth.
+enum class InlierMode {
+  k1D,  // |z_rendered - z_observed| < eps at the same pixel (the paper's raster-core test)
+  k3D,  // the pixel's back-projected rendered point has an observed point of the box within
+        // eps (nearest neighbour in 3-D; the SAND reference test, slow)
+};
+
+// Which rasterizer the raster cores run.
+enum class RasterBackend {
+  kScalar,  // the simple reference rasterizer (float edge functions), the test oracle
+};
+
+struct EstimatorOptions {
+  // --- Sampling -------------------------------------------------------------------------
+  int samples = 620;          // samples per object class per image, over all its boxes
+  int max_iterations = 50;    // iteration limit
+  double tau = 0.85;          // stop when the mean weight of the samples exceeds tau
+  uint64_t seed = 0;          // RNG seed; same seed -> same result at any thread count
+
+  // --- Initialization -------------------------------------------------------------------
+  // Translation: the ray through the box centre at the `init_depth_quantile` of the valid
+  // observed depths in the box plus half the object's depth extent, jittered by
+  // init_sigma_t_m; rotation: uniform on SO(3).
+  double init_depth_quantile = 0.5;
+  double init_sigma_t_m = 0.01;
+
+  // --- Scoring --------------------------------------------------------------------------
+  InlierMode inlier_mode = InlierMode::k1D;
+  double eps_m = 0.01;        // inlier threshold, metres
+  bool backface_culling = true;
+  // w = a * N / N_b + b * N / N_r + c * score, a + b + c = 1.
+  double weight_a = 0.45;
+  double weight_b = 0.45;
+  double weight_c = 0.10;
+
+  // --- Resampling -----------------------------------------------------------------------
+  double keep_top_fraction = 1.0;  // resample only from the best fraction of samples, (0, 1]
+  int cdf_table_size = 64;         // coarse threshold table entries, >= 1
+
+  // --- Diffusion (annealed: sigma_k = max(sigma_min, sigma_0 * anneal^k)) ----------------
+  double sigma_t_m = 0.015;        // translation noise at iteration 0, metres
+  double sigma_r_rad = 0.25;       // rotation noise at iteration 0, radians (tangent space)
+  double sigma_t_min_m = 0.002;
+  double sigma_r_min_rad = 0.03;
+  double anneal = 0.93;            // per-iteration factor, (0, 1]
+
+  // --- Engine ---------------------------------------------------------------------------
+  RasterBackend backend = RasterBackend::kScalar;
+  int threads = 0;                 // raster cores (worker threads); 0 = hardware threads
+
+  bool IsValid(std::string* error) const;
+};
+
+}  // namespace mcpose

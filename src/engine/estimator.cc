@@ -1,0 +1,216 @@
+#include "mcpose/estimator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <string>
+
+#include "core/check.h"
+#include "core/rng.h"
+#include "engine/raster_cores.h"
+#include "filter/diffuse.h"
+#include "filter/particles.h"
+#include "filter/resample.h"
+
+namespace mcpose {
+
+namespace {
+
+// Substreams of the per-sample random streams.
+constexpr uint64_t kInitStream = 0xA11CE;
+constexpr uint64_t kStepStream = 0xD1FF05E;
+
+// The `q` quantile of the valid depths of a box, or 0 if it has none.
+double DepthQuantile(const std::vector<float>& observed, double q) {
+  std::vector<float> valid;
+  valid.reserve(observed.size());
+  for (float d : observed)
+    if (d > 0.f) valid.push_back(d);
+  if (valid.empty()) return 0.0;
+  const size_t k = std::min(valid.size() - 1, static_cast<size_t>(q * (valid.size() - 1) + 0.5));
+  std::nth_element(valid.begin(), valid.begin() + k, valid.end());
+  return valid[k];
+}
+
+}  // namespace
+
+struct Estimator::Impl {
+  EstimatorOptions options;
+  engine::RasterCores cores;
+  Impl(const EstimatorOptions& o) : options(o), cores(o.threads, o.backend) {}
+};
+
+Estimator::Estimator(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Estimator::~Estimator() = default;
+
+const EstimatorOptions& Estimator::options() const { return impl_->options; }
+
+StatusOr<std::unique_ptr<Estimator>> Estimator::Create(const EstimatorOptions& options) {
+  std::string error;
+  if (!options.IsValid(&error)) return InvalidArgument("invalid estimator options: " + error);
+  return std::unique_ptr<Estimator>(new Estimator(std::make_unique<Impl>(options)));
+}
+
+StatusOr<ObjectEstimate> Estimator::Estimate(const Intrinsics& K, const DepthImage& depth,
+                                             const Mesh& mesh, std::span<const Detection> boxes,
+                                             uint64_t stream_id) {
+  const EstimatorOptions& opt = impl_->options;
+  engine::RasterCores& cores = impl_->cores;
+
+  // ---- Validate the inputs at the boundary ---------------------------------------------
+  std::string error;
+  if (!K.IsValid(&error)) return InvalidArgument(error);
+  if (depth.width != K.width || depth.height != K.height ||
+      depth.depth_m.size() != static_cast<size_t>(depth.width) * depth.height) {
+    return InvalidArgument("depth image is " + std::to_string(depth.width) + "x" +
+                           std::to_string(depth.height) + " but the intrinsics say " +
+                           std::to_string(K.width) + "x" + std::to_string(K.height));
+  }
+  MCPOSE_RETURN_IF_ERROR(mesh.Validate("mesh"));
+  if (boxes.empty()) return InvalidArgument("no boxes given");
+  const int obj_id = boxes[0].obj_id;
+  for (size_t b = 0; b < boxes.size(); ++b) {
+    const Detection& d = boxes[b];
+    const std::string where = "box " + std::to_string(b) + " of obj_id " + std::to_string(obj_id);
+    if (d.obj_id != obj_id) return InvalidArgument(where + ": boxes of different classes given");
+    if (!(std::isfinite(d.score) && d.score >= 0))
+      return InvalidArgument(where + ": score must be finite and >= 0");
+    if (!(std::isfinite(d.x) && std::isfinite(d.y) && d.w > 0 && d.h > 0 && std::isfinite(d.w) &&
+          std::isfinite(d.h)))
+      return InvalidArgument(where + ": box must be finite with positive size");
+    if (engine::ClipBox(d.x, d.y, d.w, d.h, K.width, K.height).empty())
+      return InvalidArgument(where + ": box lies outside the " + std::to_string(K.width) + "x" +
+                             std::to_string(K.height) + " image");
+  }
+
+  ObjectEstimate result;
+  result.obj_id = obj_id;
+  EngineCounters& counters = result.counters;
+
+  // ---- Depth distributor: each box's observed depth, read once ---------------------------
+  std::vector<engine::BoxDepth> box_depth;
+  std::vector<double> scores;
+  for (const Detection& d : boxes) {
+    box_depth.push_back(engine::DistributeDepth(
+        depth, K, engine::ClipBox(d.x, d.y, d.w, d.h, K.width, K.height), d.score, opt.inlier_mode));
+    scores.push_back(std::max(d.score, 1e-6));
+  }
+
+  // ---- Initialize: samples over boxes in proportion to score -----------------------------
+  const int n = opt.samples;
+  const std::vector<int> per_box = filter::AllocateSamples(scores, n);
+  const Eigen::Vector3f size = mesh.BoundsMax() - mesh.BoundsMin();
+  std::array<float, 3> sorted_size = {size.x(), size.y(), size.z()};
+  std::sort(sorted_size.begin(), sorted_size.end());
+  const double half_extent = 0.5 * sorted_size[1];  // half the median side: a typical depth
+  const double diameter = size.norm();
+
+  filter::ParticleSet particles[2];
+  particles[0].Resize(n);
+  particles[1].Resize(n);
+  {
+    filter::ParticleSet& p = particles[0];
+    int i = 0;
+    for (size_t b = 0; b < boxes.size(); ++b) {
+      const engine::BoxDepth& bd = box_depth[b];
+      // The ray through the box centre, at a robust depth of the box plus half the object.
+      const double uc = boxes[b].x + 0.5 * boxes[b].w, vc = boxes[b].y + 0.5 * boxes[b].h;
+      double z = DepthQuantile(bd.observed, opt.init_depth_quantile);
+      if (z > 0) {
+        z += half_extent;
+      } else {  // no valid depth: the distance at which the object would fill the box
+        z = std::max(K.fx, K.fy) * diameter / std::max(1.0, std::hypot(boxes[b].w, boxes[b].h));
+      }
+      const Eigen::Vector3d ray((uc - K.cx) / K.fx, (vc - K.cy) / K.fy, 1.0);
+      for (int k = 0; k < per_box[b]; ++k, ++i) {
+        Rng rng(opt.seed, stream_id, kInitStream, static_cast<uint64_t>(i));
+        p.box[i] = static_cast<int32_t>(b);
+        p.R_cam_obj[i] = filter::UniformRotation(rng.Uniform(), rng.Uniform(), rng.Uniform());
+        p.t_cam_obj_m[i] = ray * z + opt.init_sigma_t_m *
+                                         Eigen::Vector3d(rng.Normal(), rng.Normal(), rng.Normal());
+      }
+    }
+    MCPOSE_CHECK_EQ(i, n);
+  }
+
+  // ---- Iterate: score, keep the best, stop or resample + diffuse -------------------------
+  engine::ScoreJob job;
+  job.mesh = &mesh;
+  job.K = K;
+  job.boxes = box_depth;
+  job.inlier_mode = opt.inlier_mode;
+  job.eps_m = static_cast<float>(opt.eps_m);
+  job.cull_backfaces = opt.backface_culling;
+
+  std::vector<score::InlierCounts> counts(n);
+  filter::CdfSampler sampler;
+  int cur = 0;
+  result.best_weight = -1;
+  for (int iter = 0; iter < opt.max_iterations; ++iter) {
+    filter::ParticleSet& p = particles[cur];
+
+    // Raster cores: render + inlier counts for every sample.
+    render::RasterStats stats;
+    cores.Score(job, p, counts, &stats);
+    counters.triangles_in += stats.triangles;
+    counters.culled_backface += stats.culled_backface;
+    counters.culled_degenerate += stats.culled_degenerate;
+    counters.culled_outside_box += stats.culled_outside_box;
+    counters.culled_near += stats.culled_near;
+    counters.culled_between_pixels += stats.culled_between_pixels;
+    counters.triangles_rasterized += stats.rasterized;
+    counters.fragments += stats.fragments;
+
+    // Depth distributor traffic: the union of the boxes in use, versus a copy per sample.
+    std::vector<char> box_used(boxes.size(), 0);
+    for (int i = 0; i < n; ++i) {
+      box_used[p.box[i]] = 1;
+      counters.depth_bytes_read_naive += box_depth[p.box[i]].rect.area() * int64_t{sizeof(float)};
+    }
+    std::vector<render::PixelRect> used_rects;
+    for (size_t b = 0; b < boxes.size(); ++b)
+      if (box_used[b]) used_rects.push_back(box_depth[b].rect);
+    counters.depth_bytes_read += engine::UnionArea(used_rects) * int64_t{sizeof(float)};
+
+    // Weights, the best sample ever seen (ties: lowest index), the mean.
+    double sum = 0;
+    for (int i = 0; i < n; ++i) {
+      p.weight[i] = score::Weight(counts[i], box_depth[p.box[i]].score, opt.weight_a,
+                                  opt.weight_b, opt.weight_c);
+      sum += p.weight[i];
+      if (p.weight[i] > result.best_weight) {
+        result.best_weight = p.weight[i];
+        result.T_cam_obj = p.Pose(i);
+        result.best_box = p.box[i];
+      }
+    }
+    const double mean = sum / n;
+    result.mean_weight_history.push_back(mean);
+    result.final_mean_weight = mean;
+    result.iterations = iter + 1;
+    if (mean > opt.tau || iter + 1 == opt.max_iterations) break;
+
+    // Resample from the sorted CDF and diffuse into the other buffer.
+    sampler.Build(p.weight, opt.keep_top_fraction, opt.cdf_table_size);
+    const double sigma_t = std::max(opt.sigma_t_min_m, opt.sigma_t_m * std::pow(opt.anneal, iter));
+    const double sigma_r = std::max(opt.sigma_r_min_rad, opt.sigma_r_rad * std::pow(opt.anneal, iter));
+    filter::ParticleSet& next = particles[1 - cur];
+    int64_t reads = 0, reads_naive = 0;
+    for (int i = 0; i < n; ++i) {
+      Rng rng(opt.seed, stream_id, kStepStream + static_cast<uint64_t>(iter), static_cast<uint64_t>(i));
+      const double u = rng.Uniform();
+      const int parent = sampler.Draw(u, &reads);
+      sampler.DrawLinear(u, &reads_naive);
+      filter::Diffuse(p.R_cam_obj[parent], p.t_cam_obj_m[parent], sigma_r, sigma_t, rng,
+                      &next.R_cam_obj[i], &next.t_cam_obj_m[i]);
+      next.box[i] = p.box[parent];
+    }
+    counters.cdf_draws += n;
+    counters.cdf_reads += reads;
+    counters.cdf_reads_naive += reads_naive;
+    cur = 1 - cur;
+  }
+  return result;
+}
+
+}  // namespace mcpose

@@ -1,0 +1,74 @@
+// Raster cores: the engine boundary between the filter and the renderers. A batch of pose
+// hypotheses goes in, one InlierCounts per hypothesis comes out. Each worker thread of the
+// pool is one raster core with its own scratch (projected vertices, box z-buffer).
+#pragma once
+
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "core/parallel_for.h"
+#include "filter/particles.h"
+#include "mcpose/camera.h"
+#include "mcpose/image.h"
+#include "mcpose/mesh.h"
+#include "mcpose/options.h"
+#include "render/raster.h"
+#include "score/inlier.h"
+
+namespace mcpose::engine {
+
+// One box's observed depth, cut out of the frame once by the depth distributor and shared by
+// every core and every iteration.
+struct BoxDepth {
+  render::PixelRect rect;
+  std::vector<float> observed;  // rect-sized, metres, 0 = invalid
+  int32_t n_observed = 0;       // N_b
+  double score = 0;             // detector confidence
+  std::unique_ptr<score::ObservedCloud> cloud;  // only for InlierMode::k3D
+};
+
+// Clips a detection box [x, x + w) x [y, y + h) to the image and rounds it outwards to whole
+// pixels. Returns an empty rect if nothing of it lies in the image.
+render::PixelRect ClipBox(double x, double y, double w, double h, int width, int height);
+
+// Builds the BoxDepth of `rect` (rect must lie inside the image).
+BoxDepth DistributeDepth(const DepthImage& depth, const Intrinsics& K, const render::PixelRect& rect,
+                         double score, InlierMode mode);
+
+// Pixels covered by the union of the given rects (for the distributor's byte count).
+int64_t UnionArea(std::span<const render::PixelRect> rects);
+
+struct ScoreJob {
+  const Mesh* mesh = nullptr;
+  Intrinsics K;
+  std::span<const BoxDepth> boxes;
+  InlierMode inlier_mode = InlierMode::k1D;
+  float eps_m = 0.01f;
+  bool cull_backfaces = true;
+};
+
+class RasterCores {
+ public:
+  RasterCores(int threads, RasterBackend backend);
+  ~RasterCores();
+
+  int threads() const { return pool_.size(); }
+  ThreadPool& pool() { return pool_; }
+
+  // counts[i] = the inlier counts of particle i rendered in its box. Adds raster statistics.
+  void Score(const ScoreJob& job, const filter::ParticleSet& particles,
+             std::span<score::InlierCounts> counts, render::RasterStats* stats);
+
+ private:
+  struct Scratch {
+    std::vector<render::ScreenVertex> vertices;
+    std::vector<float> zbuf;
+    render::RasterStats stats;
+  };
+  ThreadPool pool_;
+  RasterBackend backend_;
+  std::vector<Scratch> scratch_;
+};
+
+}  // namespace mcpose::engine

@@ -1,0 +1,22 @@
+// Diffusion: Gaussian noise in 6-DoF. The rotation is perturbed on the tangent space about the
+// object origin, R' = Exp(sigma_r * n_r) R, and the translation in the camera frame,
+// t' = t + sigma_t * n_t, with n_r, n_t ~ N(0, I_3). A rotation step never moves the object
+// origin, so the two noises stay independent.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "core/rng.h"
+#include "mcpose/se3.h"
+
+namespace mcpose::filter {
+
+inline void Diffuse(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, double sigma_r_rad,
+                    double sigma_t_m, Rng& rng, Eigen::Matrix3d* R_out, Eigen::Vector3d* t_out) {
+  const Eigen::Vector3d n_r(rng.Normal(), rng.Normal(), rng.Normal());
+  const Eigen::Vector3d n_t(rng.Normal(), rng.Normal(), rng.Normal());
+  *R_out = ExpSO3(sigma_r_rad * n_r) * R;
+  *t_out = t + sigma_t_m * n_t;
+}
+
+}  // namespace mcpose::filter

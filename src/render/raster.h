@@ -1,0 +1,69 @@
+// Partial rasterization of one pose hypothesis: a depth z-buffer of a mesh, only inside a
+// pixel box, with backface culling. This is the scalar reference ("raster core") that every
+// faster kernel is tested against.
+//
+// Conventions: pixel (x, y) is centred on (u, v) = (x, y) (see mcpose/camera.h). A pixel is
+// covered when its centre lies inside the triangle, with the top-left rule on shared edges,
+// so two triangles sharing an edge never both cover a pixel. Depth is interpolated
+// perspective-correctly (1/z is linear in screen space). Triangles are wound
+// counter-clockwise seen from outside; front faces have negative signed area in the image.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+
+#include <Eigen/Core>
+
+namespace mcpose::render {
+
+// Half-open pixel rectangle [x0, x1) x [y0, y1).
+struct PixelRect {
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  int width() const { return x1 - x0; }
+  int height() const { return y1 - y0; }
+  int64_t area() const { return int64_t{width()} * height(); }
+  bool empty() const { return x1 <= x0 || y1 <= y0; }
+};
+
+struct RasterParams {
+  float fx = 0, fy = 0, cx = 0, cy = 0;
+  PixelRect box;               // render only inside this box
+  float z_near_m = 0.05f;      // triangles with a vertex closer than this are culled
+  bool cull_backfaces = true;
+};
+
+// Why each triangle did or did not reach the z-buffer. Sum of the cull counts plus
+// `rasterized` equals `triangles`.
+struct RasterStats {
+  int64_t triangles = 0;
+  int64_t culled_near = 0;
+  int64_t culled_degenerate = 0;
+  int64_t culled_backface = 0;
+  int64_t culled_outside_box = 0;
+  int64_t culled_between_pixels = 0;
+  int64_t rasterized = 0;
+  int64_t fragments = 0;  // covered pixel centres, before the depth test
+
+  RasterStats& operator+=(const RasterStats& o);
+};
+
+// A vertex after the camera transform: pixel coordinates and camera depth.
+struct ScreenVertex {
+  float u = 0, v = 0;
+  float z = 0;  // camera-frame depth, metres
+};
+
+// X_cam = R * X_model + t, then the pinhole projection.
+void ProjectVertices(std::span<const Eigen::Vector3f> vertices_m, const Eigen::Matrix3f& R,
+                     const Eigen::Vector3f& t, const RasterParams& params,
+                     std::span<ScreenVertex> out);
+
+// Renders the triangles into `zbuf` (params.box sized, row-major, row stride box.width()),
+// keeping the nearest depth. The caller fills zbuf with +infinity first; pixels no triangle
+// covers keep it. Adds to *stats.
+void RasterizeDepthReference(std::span<const ScreenVertex> vertices,
+                             std::span<const std::array<uint32_t, 3>> triangles,
+                             const RasterParams& params, float* zbuf, RasterStats* stats);
+
+}  // namespace mcpose::render

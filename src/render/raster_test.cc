@@ -1,0 +1,154 @@
+#include "render/raster.h"
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+
+namespace mcpose::render {
+namespace {
+
+struct Scene {
+  std::vector<Eigen::Vector3f> vertices;
+  std::vector<std::array<uint32_t, 3>> triangles;
+};
+
+// Random triangles in front of the camera, a few pixels to a few dozen pixels across.
+Scene RandomScene(std::mt19937_64& gen, int n) {
+  std::uniform_real_distribution<float> xy(-0.12f, 0.12f), z(0.5f, 1.2f), d(-0.02f, 0.02f);
+  Scene s;
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector3f c(xy(gen), xy(gen), z(gen));
+    for (int k = 0; k < 3; ++k) s.vertices.push_back(c + Eigen::Vector3f(d(gen), d(gen), d(gen)));
+    s.triangles.push_back({uint32_t(3 * i), uint32_t(3 * i + 1), uint32_t(3 * i + 2)});
+  }
+  return s;
+}
+
+RasterParams Params(bool cull) {
+  RasterParams p;
+  p.fx = 1066.778f, p.fy = 1067.487f, p.cx = 312.9869f, p.cy = 241.3109f;
+  p.box = PixelRect{200, 150, 420, 330};
+  p.cull_backfaces = cull;
+  return p;
+}
+
+// Brute force: for every pixel, intersect its viewing ray with every triangle in double
+// precision (pixel centre at integer coordinates). Returns the nearest depth, or +inf.
+// `ambiguous` marks pixels whose centre lies within `tol` (barycentric) of an edge.
+void BruteForce(const Scene& s, const RasterParams& p, std::vector<float>* z,
+                std::vector<char>* ambiguous) {
+  const PixelRect& b = p.box;
+  z->assign(b.area(), INFINITY);
+  ambiguous->assign(b.area(), 0);
+  for (int y = b.y0; y < b.y1; ++y) {
+    for (int x = b.x0; x < b.x1; ++x) {
+      const Eigen::Vector3d dir((x - p.cx) / p.fx, (y - p.cy) / p.fy, 1.0);
+      const size_t idx = (y - b.y0) * b.width() + (x - b.x0);
+      for (const auto& t : s.triangles) {
+        const Eigen::Vector3d a = s.vertices[t[0]].cast<double>(), bb = s.vertices[t[1]].cast<double>(),
+                              c = s.vertices[t[2]].cast<double>();
+        const Eigen::Vector3d n = (bb - a).cross(c - a);
+        const bool front = n.dot(a) < 0;
+        if (p.cull_backfaces && !front) continue;
+        const double denom = n.dot(dir);
+        if (std::abs(denom) < 1e-15) continue;
+        const double s_ray = n.dot(a) / denom;  // point = s_ray * dir, depth = s_ray
+        const Eigen::Vector3d q = s_ray * dir;
+        // Barycentric coordinates of q.
+        const double area = n.norm();
+        const double wa = (bb - q).cross(c - q).dot(n) / (area * area);
+        const double wb = (c - q).cross(a - q).dot(n) / (area * area);
+        const double wc = 1.0 - wa - wb;
+        const double tol = 1e-4;
+        if (std::min({wa, wb, wc}) > tol) {
+          (*z)[idx] = std::min((*z)[idx], static_cast<float>(s_ray));
+        } else if (std::min({wa, wb, wc}) > -tol) {
+          (*ambiguous)[idx] = 1;
+        }
+      }
+    }
+  }
+}
+
+class RasterVsBruteForce : public ::testing::TestWithParam<bool> {};
+
+TEST_P(RasterVsBruteForce, CoverageAndDepthMatchOnRandomTriangles) {
+  const bool cull = GetParam();
+  std::mt19937_64 gen(cull ? 11 : 12);
+  for (int trial = 0; trial < 20; ++trial) {
+    const Scene s = RandomScene(gen, 60);
+    const RasterParams p = Params(cull);
+    std::vector<ScreenVertex> sv(s.vertices.size());
+    ProjectVertices(s.vertices, Eigen::Matrix3f::Identity(), Eigen::Vector3f::Zero(), p, sv);
+    std::vector<float> zbuf(p.box.area(), INFINITY);
+    RasterStats stats;
+    RasterizeDepthReference(sv, s.triangles, p, zbuf.data(), &stats);
+
+    std::vector<float> z_ref;
+    std::vector<char> ambiguous;
+    BruteForce(s, p, &z_ref, &ambiguous);
+    int compared = 0, covered = 0;
+    for (size_t i = 0; i < zbuf.size(); ++i) {
+      if (ambiguous[i]) continue;
+      ++compared;
+      ASSERT_EQ(std::isinf(zbuf[i]), std::isinf(z_ref[i])) << "trial " << trial << " pixel " << i;
+      if (!std::isinf(z_ref[i])) {
+        ++covered;
+        EXPECT_NEAR(zbuf[i], z_ref[i], 5e-5f * z_ref[i]);  // float edge functions
+      }
+    }
+    EXPECT_GT(covered, 100);
+    EXPECT_GT(compared, static_cast<int>(zbuf.size()) * 9 / 10);
+
+    // Every triangle has exactly one fate.
+    EXPECT_EQ(stats.triangles, 60);
+    EXPECT_EQ(stats.culled_near + stats.culled_degenerate + stats.culled_backface +
+                  stats.culled_outside_box + stats.culled_between_pixels + stats.rasterized,
+              stats.triangles);
+    if (!cull) {
+      EXPECT_EQ(stats.culled_backface, 0);
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Culling, RasterVsBruteForce, ::testing::Bool());
+
+TEST(Raster, SharedEdgesCoverEachPixelOnce) {
+  // A square split along its diagonal, pixel-aligned so many centres lie on the shared edges.
+  Scene s;
+  s.vertices = {{-0.05f, -0.05f, 1.f}, {0.05f, -0.05f, 1.f}, {0.05f, 0.05f, 1.f}, {-0.05f, 0.05f, 1.f}};
+  // Counter-clockwise seen from the camera side (the normal points to -z).
+  s.triangles = {{0, 2, 1}, {0, 3, 2}};
+  RasterParams p = Params(true);
+  p.fx = p.fy = 1000.f;
+  p.cx = 300.f, p.cy = 240.f;
+  std::vector<ScreenVertex> sv(4);
+  ProjectVertices(s.vertices, Eigen::Matrix3f::Identity(), Eigen::Vector3f::Zero(), p, sv);
+  std::vector<float> zbuf(p.box.area(), INFINITY);
+  RasterStats stats;
+  RasterizeDepthReference(sv, s.triangles, p, zbuf.data(), &stats);
+  EXPECT_EQ(stats.rasterized, 2);
+  // The square spans u, v in [250, 350] x [190, 290]: centres 250..349 (top-left rule) = 100 x 100.
+  EXPECT_EQ(stats.fragments, 100 * 100);
+}
+
+TEST(Raster, BackfacesAreCulledAndNearPlaneTrianglesDropped) {
+  Scene s;
+  s.vertices = {{-0.05f, -0.05f, 1.f}, {0.05f, -0.05f, 1.f}, {0.05f, 0.05f, 1.f}, {0.f, 0.f, 0.01f}};
+  s.triangles = {{0, 1, 2} /* back face */, {0, 2, 1} /* front */, {0, 1, 3} /* near */};
+  RasterParams p = Params(true);
+  std::vector<ScreenVertex> sv(4);
+  ProjectVertices(s.vertices, Eigen::Matrix3f::Identity(), Eigen::Vector3f::Zero(), p, sv);
+  std::vector<float> zbuf(p.box.area(), INFINITY);
+  RasterStats stats;
+  RasterizeDepthReference(sv, s.triangles, p, zbuf.data(), &stats);
+  EXPECT_EQ(stats.culled_backface, 1);
+  EXPECT_EQ(stats.culled_near, 1);
+  EXPECT_EQ(stats.rasterized, 1);
+}
+
+}  // namespace
+}  // namespace mcpose::render

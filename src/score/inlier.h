@@ -1,0 +1,55 @@
+// Scoring one rendered hypothesis against the observed depth inside its box.
+//
+// The scorer takes depth spans, never meshes: `rendered` is the z-buffer of the box (+inf where
+// nothing was drawn) and `observed` the observed depth of the same box (0 where invalid),
+// both metres, row-major with the box width as stride.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+
+#include "mcpose/camera.h"
+#include "render/raster.h"
+
+namespace mcpose::score {
+
+struct InlierCounts {
+  int32_t inliers = 0;   // N
+  int32_t rendered = 0;  // N_r
+  int32_t observed = 0;  // N_b
+  bool operator==(const InlierCounts&) const = default;
+};
+
+// Valid observed pixels (depth > 0) of a box: N_b. Independent of the hypothesis.
+int32_t CountObserved(std::span<const float> observed);
+
+// The paper's 1-D test: N counts pixels with |z_rendered - z_observed| < eps_m, observed > 0.
+InlierCounts CountInliers1D(std::span<const float> rendered, std::span<const float> observed,
+                            float eps_m);
+
+// w = a * N / N_b + b * N / N_r + c * score; a term with a zero denominator is 0.
+inline double Weight(const InlierCounts& n, double score, double a, double b, double c) {
+  const double recall = n.observed > 0 ? static_cast<double>(n.inliers) / n.observed : 0.0;
+  const double precision = n.rendered > 0 ? static_cast<double>(n.inliers) / n.rendered : 0.0;
+  return a * recall + b * precision + c * score;
+}
+
+// The 3-D reference test: the observed pixels of one box back-projected to camera-frame points
+// in a KD-tree; a rendered pixel is an inlier if its back-projected point has an observed point
+// within eps. Built once per box, then queried by any number of hypotheses (thread-safe).
+class ObservedCloud {
+ public:
+  ObservedCloud(const Intrinsics& K, const render::PixelRect& box, std::span<const float> observed);
+  ~ObservedCloud();
+  ObservedCloud(const ObservedCloud&) = delete;
+  ObservedCloud& operator=(const ObservedCloud&) = delete;
+
+  InlierCounts CountInliers3D(std::span<const float> rendered, float eps_m) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace mcpose::score

@@ -1,0 +1,78 @@
+#include "score/inlier.h"
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+namespace mcpose::score {
+namespace {
+
+struct Buffers {
+  render::PixelRect box{100, 50, 160, 90};
+  std::vector<float> rendered, observed;
+};
+
+Buffers RandomBuffers(std::mt19937_64& gen) {
+  Buffers b;
+  std::uniform_real_distribution<float> z(0.6f, 0.9f), u(0.f, 1.f), noise(-0.02f, 0.02f);
+  for (int i = 0; i < b.box.area(); ++i) {
+    const float surface = z(gen);
+    b.rendered.push_back(u(gen) < 0.3f ? INFINITY : surface + noise(gen));
+    b.observed.push_back(u(gen) < 0.1f ? 0.f : surface + noise(gen));
+  }
+  return b;
+}
+
+TEST(Inlier, OneDimensionalCountsMatchNaiveLoop) {
+  std::mt19937_64 gen(5);
+  for (int trial = 0; trial < 50; ++trial) {
+    const Buffers b = RandomBuffers(gen);
+    const float eps = 0.01f;
+    InlierCounts naive;
+    for (size_t i = 0; i < b.rendered.size(); ++i) {
+      if (b.observed[i] > 0) ++naive.observed;
+      if (std::isinf(b.rendered[i])) continue;
+      ++naive.rendered;
+      if (b.observed[i] > 0 && std::abs(b.rendered[i] - b.observed[i]) < eps) ++naive.inliers;
+    }
+    EXPECT_EQ(CountInliers1D(b.rendered, b.observed, eps), naive);
+    EXPECT_EQ(CountObserved(b.observed), naive.observed);
+  }
+}
+
+TEST(Inlier, ThreeDimensionalCountsMatchBruteForce) {
+  std::mt19937_64 gen(6);
+  Intrinsics K{1066.778, 1067.487, 312.9869, 241.3109, 640, 480};
+  for (int trial = 0; trial < 5; ++trial) {
+    const Buffers b = RandomBuffers(gen);
+    const float eps = 0.01f;
+    ObservedCloud cloud(K, b.box, b.observed);
+    auto back = [&](int i, float z) {
+      const int x = b.box.x0 + i % b.box.width(), y = b.box.y0 + i / b.box.width();
+      return Eigen::Vector3f(float((x - K.cx) / K.fx) * z, float((y - K.cy) / K.fy) * z, z);
+    };
+    InlierCounts naive;
+    naive.observed = CountObserved(b.observed);
+    for (size_t i = 0; i < b.rendered.size(); ++i) {
+      if (std::isinf(b.rendered[i])) continue;
+      ++naive.rendered;
+      const Eigen::Vector3f p = back(i, b.rendered[i]);
+      bool hit = false;
+      for (size_t j = 0; j < b.observed.size() && !hit; ++j)
+        hit = b.observed[j] > 0 && (back(j, b.observed[j]) - p).squaredNorm() < eps * eps;
+      naive.inliers += hit;
+    }
+    EXPECT_EQ(cloud.CountInliers3D(b.rendered, eps), naive);
+  }
+}
+
+TEST(Inlier, WeightFormula) {
+  InlierCounts c{50, 100, 200};
+  EXPECT_DOUBLE_EQ(Weight(c, 0.8, 0.5, 0.3, 0.2), 0.5 * 0.25 + 0.3 * 0.5 + 0.2 * 0.8);
+  EXPECT_DOUBLE_EQ(Weight(InlierCounts{0, 0, 0}, 0.5, 0.4, 0.4, 0.2), 0.1);
+}
+
+}  // namespace
+}  // namespace mcpose::score
