@@ -17,6 +17,7 @@ namespace {
 struct EstimateArgs {
   std::string dataset, split = "test", detections, out, out_json;
   std::string inlier = "1d";
+  std::string engine = "scalar";
   std::vector<double> weights;
   bool no_culling = false;
   bool quiet = false;
@@ -73,6 +74,8 @@ Status RunEstimate(EstimateArgs& a) {
   } else {
     return InvalidArgument("--inlier must be 1d or 3d, got '" + a.inlier + "'");
   }
+  if (!ParseRasterBackend(a.engine, &o.backend))
+    return InvalidArgument("--engine must be scalar or fixed, got '" + a.engine + "'");
   if (!a.weights.empty()) {
     if (a.weights.size() != 3) return InvalidArgument("--weights takes three numbers a b c");
     o.weight_a = a.weights[0], o.weight_b = a.weights[1], o.weight_c = a.weights[2];
@@ -112,6 +115,7 @@ Status RunEstimate(EstimateArgs& a) {
                             {"inlier", a.inlier},
                             {"eps_m", o.eps_m},
                             {"weights", {o.weight_a, o.weight_b, o.weight_c}},
+                            {"engine", RasterBackendName(o.backend)},
                             {"threads", o.threads}}},
                           {"objects", objects}};
     MCPOSE_RETURN_IF_ERROR(WriteFileAtomically(a.out_json, doc.dump(1) + "\n"));
@@ -157,6 +161,7 @@ void AddEstimateCommand(CLI::App& app, Status* status) {
   cmd->add_option("--anneal", o.anneal, "Diffusion: sigma factor per iteration, (0, 1]")->capture_default_str();
   cmd->add_option("--init-sigma-t", o.init_sigma_t_m, "Initial translation jitter, metres")->capture_default_str();
   cmd->add_option("--init-depth-quantile", o.init_depth_quantile, "Quantile of the box's valid depths for the initial distance")->capture_default_str();
+  cmd->add_option("--engine", args->engine, "Raster core: scalar (float reference) or fixed (1/16-pixel fixed point)")->capture_default_str();
   cmd->add_flag("--no-backface-culling", args->no_culling, "Rasterize back faces too");
   cmd->add_flag("-q,--quiet", args->quiet, "No progress output");
   cmd->callback([args, status] { *status = RunEstimate(*args); });

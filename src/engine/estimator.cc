@@ -7,6 +7,7 @@
 
 #include "core/check.h"
 #include "core/rng.h"
+#include "engine/initialize.h"
 #include "engine/raster_cores.h"
 #include "filter/diffuse.h"
 #include "filter/particles.h"
@@ -16,21 +17,8 @@ namespace mcpose {
 
 namespace {
 
-// Substreams of the per-sample random streams.
-constexpr uint64_t kInitStream = 0xA11CE;
+// Substream of the per-sample random streams used by resampling + diffusion.
 constexpr uint64_t kStepStream = 0xD1FF05E;
-
-// The `q` quantile of the valid depths of a box, or 0 if it has none.
-double DepthQuantile(const std::vector<float>& observed, double q) {
-  std::vector<float> valid;
-  valid.reserve(observed.size());
-  for (float d : observed)
-    if (d > 0.f) valid.push_back(d);
-  if (valid.empty()) return 0.0;
-  const size_t k = std::min(valid.size() - 1, static_cast<size_t>(q * (valid.size() - 1) + 0.5));
-  std::nth_element(valid.begin(), valid.begin() + k, valid.end());
-  return valid[k];
-}
 
 }  // namespace
 
@@ -89,49 +77,16 @@ StatusOr<ObjectEstimate> Estimator::Estimate(const Intrinsics& K, const DepthIma
 
   // ---- Depth distributor: each box's observed depth, read once ---------------------------
   std::vector<engine::BoxDepth> box_depth;
-  std::vector<double> scores;
   for (const Detection& d : boxes) {
     box_depth.push_back(engine::DistributeDepth(
         depth, K, engine::ClipBox(d.x, d.y, d.w, d.h, K.width, K.height), d.score, opt.inlier_mode));
-    scores.push_back(std::max(d.score, 1e-6));
   }
 
   // ---- Initialize: samples over boxes in proportion to score -----------------------------
   const int n = opt.samples;
-  const std::vector<int> per_box = filter::AllocateSamples(scores, n);
-  const Eigen::Vector3f size = mesh.BoundsMax() - mesh.BoundsMin();
-  std::array<float, 3> sorted_size = {size.x(), size.y(), size.z()};
-  std::sort(sorted_size.begin(), sorted_size.end());
-  const double half_extent = 0.5 * sorted_size[1];  // half the median side: a typical depth
-  const double diameter = size.norm();
-
   filter::ParticleSet particles[2];
-  particles[0].Resize(n);
+  engine::InitializeSamples(K, mesh, boxes, box_depth, opt, stream_id, &particles[0]);
   particles[1].Resize(n);
-  {
-    filter::ParticleSet& p = particles[0];
-    int i = 0;
-    for (size_t b = 0; b < boxes.size(); ++b) {
-      const engine::BoxDepth& bd = box_depth[b];
-      // The ray through the box centre, at a robust depth of the box plus half the object.
-      const double uc = boxes[b].x + 0.5 * boxes[b].w, vc = boxes[b].y + 0.5 * boxes[b].h;
-      double z = DepthQuantile(bd.observed, opt.init_depth_quantile);
-      if (z > 0) {
-        z += half_extent;
-      } else {  // no valid depth: the distance at which the object would fill the box
-        z = std::max(K.fx, K.fy) * diameter / std::max(1.0, std::hypot(boxes[b].w, boxes[b].h));
-      }
-      const Eigen::Vector3d ray((uc - K.cx) / K.fx, (vc - K.cy) / K.fy, 1.0);
-      for (int k = 0; k < per_box[b]; ++k, ++i) {
-        Rng rng(opt.seed, stream_id, kInitStream, static_cast<uint64_t>(i));
-        p.box[i] = static_cast<int32_t>(b);
-        p.R_cam_obj[i] = filter::UniformRotation(rng.Uniform(), rng.Uniform(), rng.Uniform());
-        p.t_cam_obj_m[i] = ray * z + opt.init_sigma_t_m *
-                                         Eigen::Vector3d(rng.Normal(), rng.Normal(), rng.Normal());
-      }
-    }
-    MCPOSE_CHECK_EQ(i, n);
-  }
 
   // ---- Iterate: score, keep the best, stop or resample + diffuse -------------------------
   engine::ScoreJob job;

@@ -42,4 +42,23 @@ bool EstimatorOptions::IsValid(std::string* error) const {
   return true;
 }
 
+bool ParseRasterBackend(const std::string& name, RasterBackend* backend) {
+  if (name == "scalar") {
+    *backend = RasterBackend::kScalar;
+  } else if (name == "fixed") {
+    *backend = RasterBackend::kFixedPoint;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+const char* RasterBackendName(RasterBackend backend) {
+  switch (backend) {
+    case RasterBackend::kScalar: return "scalar";
+    case RasterBackend::kFixedPoint: return "fixed";
+  }
+  return "unknown";
+}
+
 }  // namespace mcpose

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/check.h"
+#include "render/raster_fixed.h"
 
 namespace mcpose::engine {
 
@@ -80,6 +81,10 @@ void RasterCores::Score(const ScoreJob& job, const filter::ParticleSet& particle
         case RasterBackend::kScalar:
           render::ProjectVertices(mesh.vertices_m, R, t, params, s.vertices);
           render::RasterizeDepthReference(s.vertices, mesh.triangles, params, s.zbuf.data(), &s.stats);
+          break;
+        case RasterBackend::kFixedPoint:
+          render::ProjectVertices(mesh.vertices_m, R, t, params, s.vertices);
+          render::RasterizeDepthFixedPoint(s.vertices, mesh.triangles, params, s.zbuf.data(), &s.stats);
           break;
       }
 

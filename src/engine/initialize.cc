@@ -1,0 +1,70 @@
+#include "engine/initialize.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <vector>
+
+#include "core/check.h"
+#include "core/rng.h"
+
+namespace mcpose::engine {
+
+namespace {
+
+constexpr uint64_t kInitStream = 0xA11CE;
+
+// The `q` quantile of the valid depths of a box, or 0 if it has none.
+double DepthQuantile(const std::vector<float>& observed, double q) {
+  std::vector<float> valid;
+  valid.reserve(observed.size());
+  for (float d : observed)
+    if (d > 0.f) valid.push_back(d);
+  if (valid.empty()) return 0.0;
+  const size_t k = std::min(valid.size() - 1, static_cast<size_t>(q * (valid.size() - 1) + 0.5));
+  std::nth_element(valid.begin(), valid.begin() + k, valid.end());
+  return valid[k];
+}
+
+}  // namespace
+
+void InitializeSamples(const Intrinsics& K, const Mesh& mesh, std::span<const Detection> boxes,
+                       std::span<const BoxDepth> box_depth, const EstimatorOptions& options,
+                       uint64_t stream_id, filter::ParticleSet* particles) {
+  MCPOSE_CHECK_EQ(boxes.size(), box_depth.size());
+  const int n = options.samples;
+  std::vector<double> scores;
+  for (const Detection& d : boxes) scores.push_back(std::max(d.score, 1e-6));
+  const std::vector<int> per_box = filter::AllocateSamples(scores, n);
+
+  const Eigen::Vector3f size = mesh.BoundsMax() - mesh.BoundsMin();
+  std::array<float, 3> sides = {size.x(), size.y(), size.z()};
+  std::sort(sides.begin(), sides.end());
+  const double half_extent = 0.5 * sides[1];
+  const double diameter = size.norm();
+
+  filter::ParticleSet& p = *particles;
+  p.Resize(n);
+  int i = 0;
+  for (size_t b = 0; b < boxes.size(); ++b) {
+    const Detection& d = boxes[b];
+    double z = DepthQuantile(box_depth[b].observed, options.init_depth_quantile);
+    if (z > 0) {
+      z += half_extent;
+    } else {
+      z = std::max(K.fx, K.fy) * diameter / std::max(1.0, std::hypot(d.w, d.h));
+    }
+    const double uc = d.x + 0.5 * d.w, vc = d.y + 0.5 * d.h;
+    const Eigen::Vector3d ray((uc - K.cx) / K.fx, (vc - K.cy) / K.fy, 1.0);
+    for (int k = 0; k < per_box[b]; ++k, ++i) {
+      Rng rng(options.seed, stream_id, kInitStream, static_cast<uint64_t>(i));
+      p.box[i] = static_cast<int32_t>(b);
+      p.R_cam_obj[i] = filter::UniformRotation(rng.Uniform(), rng.Uniform(), rng.Uniform());
+      p.t_cam_obj_m[i] =
+          ray * z + options.init_sigma_t_m * Eigen::Vector3d(rng.Normal(), rng.Normal(), rng.Normal());
+    }
+  }
+  MCPOSE_CHECK_EQ(i, n);
+}
+
+}  // namespace mcpose::engine

@@ -1,0 +1,23 @@
+// Step 1 of the filter: N samples over all boxes of one class, in proportion to score.
+// Translation: the ray through the box centre at the `init_depth_quantile` of the box's valid
+// observed depths plus half the object's median side (or, without valid depth, the distance
+// at which the object would fill the box), jittered by init_sigma_t_m; rotation: uniform on
+// SO(3). Sample i draws from its own random stream (seed, stream_id, init, i).
+#pragma once
+
+#include <cstdint>
+#include <span>
+
+#include "engine/raster_cores.h"
+#include "filter/particles.h"
+#include "mcpose/detection.h"
+#include "mcpose/mesh.h"
+#include "mcpose/options.h"
+
+namespace mcpose::engine {
+
+void InitializeSamples(const Intrinsics& K, const Mesh& mesh, std::span<const Detection> boxes,
+                       std::span<const BoxDepth> box_depth, const EstimatorOptions& options,
+                       uint64_t stream_id, filter::ParticleSet* particles);
+
+}  // namespace mcpose::engine

@@ -1,0 +1,150 @@
+#include "render/raster_fixed.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace mcpose::render {
+
+namespace {
+
+constexpr int32_t kOne = 1 << kSubpixelBits;     // one pixel in fixed point
+constexpr float kGuardBandPx = 16384.f;          // |coordinate - box| beyond this: float path
+constexpr int32_t kMaxSpanPx = 2048;             // bigger triangles: float path
+
+}  // namespace
+
+void RasterizeDepthFixedPoint(std::span<const ScreenVertex> vertices,
+                              std::span<const std::array<uint32_t, 3>> triangles,
+                              const RasterParams& params, float* zbuf, RasterStats* stats) {
+  const PixelRect& box = params.box;
+  const int stride = box.width();
+  // Fixed-point coordinates are taken relative to the box origin to keep them small.
+  const float ox = static_cast<float>(box.x0), oy = static_cast<float>(box.y0);
+  RasterStats s;
+  s.triangles = static_cast<int64_t>(triangles.size());
+  for (size_t t = 0; t < triangles.size(); ++t) {
+    const auto& tri = triangles[t];
+    const ScreenVertex* v[3] = {&vertices[tri[0]], &vertices[tri[1]], &vertices[tri[2]]};
+
+    // Near plane, as in the reference.
+    if (v[0]->z < params.z_near_m || v[1]->z < params.z_near_m || v[2]->z < params.z_near_m) {
+      ++s.culled_near;
+      continue;
+    }
+
+    // Outside the guard band (or not finite): leave it to the float reference.
+    bool in_band = true;
+    for (const ScreenVertex* p : v) {
+      in_band = in_band && std::fabs(p->u - ox) < kGuardBandPx && std::fabs(p->v - oy) < kGuardBandPx;
+    }
+    if (!in_band) {
+      RasterizeDepthReference(vertices, triangles.subspan(t, 1), params, zbuf, &s);
+      --s.triangles;  // counted once above
+      continue;
+    }
+
+    // Snap to the sub-pixel grid.
+    int32_t X[3], Y[3];
+    for (int k = 0; k < 3; ++k) {
+      X[k] = static_cast<int32_t>(std::lrint((v[k]->u - ox) * kOne));
+      Y[k] = static_cast<int32_t>(std::lrint((v[k]->v - oy) * kOne));
+    }
+
+    // Orientation on the snapped triangle: front faces have negative area (y down).
+    int64_t area = int64_t{X[1] - X[0]} * (Y[2] - Y[0]) - int64_t{Y[1] - Y[0]} * (X[2] - X[0]);
+    if (area == 0) {
+      ++s.culled_degenerate;
+      continue;
+    }
+    int ia = 0, ib = 1, ic = 2;
+    if (area > 0) {
+      if (params.cull_backfaces) {
+        ++s.culled_backface;
+        continue;
+      }
+      std::swap(ib, ic);
+      area = -area;
+    }
+
+    // Bounding box in whole pixels (box-relative), clipped to the box.
+    const int32_t min_x = std::min({X[0], X[1], X[2]}), max_x = std::max({X[0], X[1], X[2]});
+    const int32_t min_y = std::min({Y[0], Y[1], Y[2]}), max_y = std::max({Y[0], Y[1], Y[2]});
+    const int32_t bw = box.width(), bh = box.height();
+    if (max_x < 0 || min_x > (bw - 1) * kOne || max_y < 0 || min_y > (bh - 1) * kOne) {
+      ++s.culled_outside_box;
+      continue;
+    }
+    if (max_x - min_x > kMaxSpanPx * kOne || max_y - min_y > kMaxSpanPx * kOne) {
+      RasterizeDepthReference(vertices, triangles.subspan(t, 1), params, zbuf, &s);
+      --s.triangles;
+      continue;
+    }
+    // ceil(min / kOne) and floor(max / kOne) for possibly negative values.
+    const int32_t x_lo = std::max(0, (min_x + kOne - 1) >> kSubpixelBits);
+    const int32_t x_hi = std::min(bw - 1, max_x >> kSubpixelBits);
+    const int32_t y_lo = std::max(0, (min_y + kOne - 1) >> kSubpixelBits);
+    const int32_t y_hi = std::min(bh - 1, max_y >> kSubpixelBits);
+    if (x_lo > x_hi || y_lo > y_hi) {
+      ++s.culled_between_pixels;
+      continue;
+    }
+
+    // Edge functions of the reversed edges (positive inside), opposite vertices a, b, c:
+    // E(p) = (P1.x - P0.x) * (p.y - P0.y) - (P1.y - P0.y) * (p.x - P0.x) for edge P0 -> P1.
+    // Stepping one pixel in x adds -(P1.y - P0.y) * kOne, in y adds (P1.x - P0.x) * kOne.
+    const int e0[3] = {ic, ia, ib};  // edge start: c->b (opp. a), a->c (opp. b), b->a (opp. c)
+    const int e1[3] = {ib, ic, ia};
+    int64_t w_row[3], step_x[3], step_y[3];
+    const int64_t px0 = int64_t{x_lo} * kOne, py0 = int64_t{y_lo} * kOne;
+    for (int k = 0; k < 3; ++k) {
+      const int64_t dx = X[e1[k]] - X[e0[k]], dy = Y[e1[k]] - Y[e0[k]];
+      // Top-left rule (same predicate as the reference): pixels exactly on a non-owning
+      // edge are excluded by a bias of -1.
+      const bool top_left = (dy == 0 && dx < 0) || dy > 0;
+      w_row[k] = dx * (py0 - Y[e0[k]]) - dy * (px0 - X[e0[k]]) - (top_left ? 0 : 1);
+      step_x[k] = -dy * kOne;
+      step_y[k] = dx * kOne;
+    }
+
+    // 1/z as a plane over pixel coordinates: inv_z = A x + B y + C (box-relative pixels).
+    const double inv_area = 1.0 / static_cast<double>(-area);
+    const double iz[3] = {1.0 / v[ia]->z, 1.0 / v[ib]->z, 1.0 / v[ic]->z};
+    // Barycentric weight of vertex k = E_k(p) / (-area); E_k is linear in p with gradient
+    // (-dy_k, dx_k) per fixed-point unit.
+    double A = 0, B = 0, C = 0;
+    for (int k = 0; k < 3; ++k) {
+      const double dx = X[e1[k]] - X[e0[k]], dy = Y[e1[k]] - Y[e0[k]];
+      const double wk = iz[k] * inv_area;
+      A += -dy * kOne * wk;
+      B += dx * kOne * wk;
+      C += (dx * (-double(Y[e0[k]])) - dy * (-double(X[e0[k]]))) * wk;
+    }
+    const float fA = static_cast<float>(A), fB = static_cast<float>(B), fC = static_cast<float>(C);
+
+    // Walk the bounding box with incremental integer edge functions.
+    int64_t covered = 0;
+    for (int32_t y = y_lo; y <= y_hi; ++y) {
+      int64_t w0 = w_row[0], w1 = w_row[1], w2 = w_row[2];
+      float* row = zbuf + static_cast<size_t>(y) * stride;
+      const float row_c = fB * static_cast<float>(y) + fC;
+      for (int32_t x = x_lo; x <= x_hi; ++x) {
+        if ((w0 | w1 | w2) >= 0) {
+          ++covered;
+          const float z = 1.0f / (fA * static_cast<float>(x) + row_c);
+          if (z < row[x]) row[x] = z;
+        }
+        w0 += step_x[0], w1 += step_x[1], w2 += step_x[2];
+      }
+      w_row[0] += step_y[0], w_row[1] += step_y[1], w_row[2] += step_y[2];
+    }
+    if (covered == 0) {
+      ++s.culled_between_pixels;
+    } else {
+      ++s.rasterized;
+      s.fragments += covered;
+    }
+  }
+  if (stats) *stats += s;
+}
+
+}  // namespace mcpose::render

@@ -1,0 +1,253 @@
+// The mcpose command line on real data: bad input gets one clear error and no output file;
+// the same seed gives the same CSV at any thread count; BOP and native layouts agree.
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "io/png_io.h"
+#include "mcpose/results.h"
+#include "test_data.h"
+
+namespace mcpose {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliResult {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+std::string ReadText(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+CliResult RunCli(const std::string& args, const fs::path& dir) {
+  const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
+  const std::string cmd = std::string(MCPOSE_CLI_PATH) + " " + args + " > " + out.string() + " 2> " + err.string();
+  const int rc = std::system(cmd.c_str());
+  return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, ReadText(out), ReadText(err)};
+}
+
+void WriteText(const fs::path& p, const std::string& text) {
+  std::ofstream(p, std::ios::binary) << text;
+}
+
+// Detections of scene 49 image 1 (both layouts hold it) with tight boxes from box.txt-like
+// values; enough to run the estimator.
+nlohmann::json Scene49Detections() {
+  return nlohmann::json::parse(R"([
+    {"scene_id": 49, "image_id": 1, "category_id": 3, "score": 0.9, "bbox": [233, 132, 197, 208]},
+    {"scene_id": 49, "image_id": 1, "category_id": 6, "score": 0.8, "bbox": [434, 89, 97, 84]},
+    {"scene_id": 49, "image_id": 1, "category_id": 9, "score": 0.7, "bbox": [170, 98, 129, 131]},
+    {"scene_id": 49, "image_id": 1, "category_id": 9, "score": 0.3, "bbox": [400, 300, 129, 131]}
+  ])");
+}
+
+// A BOP dataset in a temp folder: JSON files copied, images and models linked, so one file at
+// a time can be replaced by a broken one.
+fs::path MakeBopCopy(const std::string& name) {
+  const fs::path src = testing::BopDir();
+  const fs::path dst = testing::TempDir(name) / "bop";
+  fs::create_directories(dst / "models");
+  fs::create_directories(dst / "test/000049/depth");
+  fs::copy_file(src / "models/models_info.json", dst / "models/models_info.json");
+  for (const auto& e : fs::directory_iterator(src / "models"))
+    if (e.path().extension() == ".ply") fs::create_symlink(e.path(), dst / "models" / e.path().filename());
+  for (const char* f : {"scene_camera.json", "scene_gt.json", "scene_gt_info.json"})
+    fs::copy_file(src / "test/000049" / f, dst / "test/000049" / f);
+  for (const auto& e : fs::directory_iterator(src / "test/000049/depth"))
+    fs::create_symlink(e.path(), dst / "test/000049/depth" / e.path().filename());
+  fs::create_directory_symlink(src / "test/000049/mask_visib", dst / "test/000049/mask_visib");
+  for (const char* f : {"camera.json"}) fs::copy_file(src / f, dst / f);
+  return dst;
+}
+
+struct BadCase {
+  std::string name;
+  // Breaks something in the dataset copy or the detections; returns the text the error must
+  // contain (a file name or a phrase).
+  std::function<std::string(const fs::path& bop, nlohmann::json& dets)> breaker;
+  std::string extra_args;
+};
+
+class CliBadInput : public ::testing::TestWithParam<BadCase> {};
+
+TEST_P(CliBadInput, OneClearErrorNonZeroExitNoResultsFile) {
+  const BadCase& c = GetParam();
+  const fs::path bop = MakeBopCopy("bad_" + c.name);
+  const fs::path dir = bop.parent_path();
+  nlohmann::json dets = Scene49Detections();
+  const std::string must_contain = c.breaker(bop, dets);
+  const fs::path dets_path = dir / "dets.json";
+  if (!fs::exists(dets_path)) WriteText(dets_path, dets.dump());
+  const fs::path results = dir / "results.csv";
+  const CliResult r = RunCli("estimate --dataset " + bop.string() + " --detections " + dets_path.string() +
+                                 " --out " + results.string() + " --iterations 2 " +
+                                 (c.extra_args.empty() ? "--samples 16" : c.extra_args),
+                             dir);
+  EXPECT_NE(r.exit_code, 0) << c.name;
+  EXPECT_NE(r.err.find("mcpose: error:"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(must_contain), std::string::npos) << "expected '" << must_contain << "' in: " << r.err;
+  // One message: a single line on stderr.
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_FALSE(fs::exists(results)) << c.name;
+  EXPECT_FALSE(fs::exists(results.string() + ".tmp")) << c.name;
+}
+
+void Replace(const fs::path& p, const std::string& text) {
+  fs::remove(p);
+  WriteText(p, text);
+}
+
+std::string PatchSceneCamera(const fs::path& bop, double fx) {
+  const fs::path p = bop / "test/000049/scene_camera.json";
+  std::string text = ReadText(p);
+  const std::string key = "\"cam_K\": [1066.778";
+  const size_t at = text.find(key);
+  std::ostringstream v;
+  if (std::isnan(fx)) v << "NaN"; else v << fx;
+  text.replace(at, key.size(), "\"cam_K\": [" + v.str());
+  Replace(p, text);
+  return p.string();
+}
+
+const BadCase kBadCases[] = {
+    {"missing_dataset", [](const fs::path& bop, nlohmann::json&) { fs::remove_all(bop); return bop.string(); }, ""},
+    {"missing_detections", [](const fs::path& bop, nlohmann::json&) {
+       fs::create_directory(bop.parent_path() / "dets.json");  // a folder, not a file
+       return (bop.parent_path() / "dets.json").string(); }, ""},
+    {"malformed_json", [](const fs::path& bop, nlohmann::json&) {
+       WriteText(bop.parent_path() / "dets.json", "[{\"scene_id\": 49, \"image_id\": ");
+       return (bop.parent_path() / "dets.json").string(); }, ""},
+    {"unknown_class", [](const fs::path&, nlohmann::json& d) { d[0]["category_id"] = 99; return std::string("unknown class"); }, ""},
+    {"box_outside_image", [](const fs::path&, nlohmann::json& d) {
+       d[1]["bbox"] = {900, 100, 50, 50}; return std::string("outside"); }, ""},
+    {"zero_size_box", [](const fs::path& bop, nlohmann::json& d) {
+       d[1]["bbox"] = {100, 100, 0, 50}; return (bop.parent_path() / "dets.json").string(); }, ""},
+    {"no_such_image", [](const fs::path&, nlohmann::json& d) { d[0]["scene_id"] = 77; return std::string("no such image"); }, ""},
+    {"truncated_depth_png", [](const fs::path& bop, nlohmann::json&) {
+       const fs::path p = bop / "test/000049/depth/000001.png";
+       const std::string bytes = ReadText(fs::read_symlink(p));
+       Replace(p, bytes.substr(0, bytes.size() / 3));
+       return p.string(); }, ""},
+    {"eight_bit_depth_png", [](const fs::path& bop, nlohmann::json&) {
+       const fs::path p = bop / "test/000049/depth/000001.png";
+       fs::remove(p);
+       MaskImage m;
+       m.width = 640, m.height = 480;
+       m.values.assign(640 * 480, 7);
+       EXPECT_TRUE(io::WriteMaskPng(p.string(), m).ok());
+       return p.string(); }, ""},
+    {"nan_intrinsics", [](const fs::path& bop, nlohmann::json&) { return PatchSceneCamera(bop, NAN); }, ""},
+    {"zero_intrinsics", [](const fs::path& bop, nlohmann::json&) { return PatchSceneCamera(bop, 0.0); }, ""},
+    {"empty_mesh", [](const fs::path& bop, nlohmann::json&) {
+       const fs::path p = bop / "models/obj_000003.ply";
+       Replace(p, "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\nproperty float z\n"
+                  "element face 0\nproperty list uchar int vertex_indices\nend_header\n");
+       return p.string(); }, ""},
+    {"degenerate_mesh", [](const fs::path& bop, nlohmann::json&) {
+       const fs::path p = bop / "models/obj_000003.ply";
+       Replace(p, "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                  "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 1 1\n2 2 2\n3 0 1 2\n");
+       return p.string(); }, ""},
+    {"invalid_option", [](const fs::path&, nlohmann::json&) { return std::string("samples"); }, "--samples 0"},
+};
+
+INSTANTIATE_TEST_SUITE_P(Cases, CliBadInput, ::testing::ValuesIn(kBadCases),
+                         [](const auto& info) { return info.param.name; });
+
+// Rows without the time column.
+std::vector<std::string> RowsWithoutTime(const fs::path& csv) {
+  std::vector<std::string> rows;
+  std::istringstream in(ReadText(csv));
+  for (std::string line; std::getline(in, line);) rows.push_back(line.substr(0, line.rfind(',')));
+  return rows;
+}
+
+TEST(Cli, SameSeedSameCsvAtAnyThreadCount) {
+  const fs::path dir = testing::TempDir("threads");
+  WriteText(dir / "dets.json", Scene49Detections().dump());
+  std::vector<std::vector<std::string>> runs;
+  for (int threads : {1, 2, 3}) {
+    const fs::path out = dir / ("r" + std::to_string(threads) + ".csv");
+    const CliResult r = RunCli("estimate --dataset " + testing::YcbvDir() + " --detections " + (dir / "dets.json").string() +
+                                   " --out " + out.string() + " --iterations 6 --seed 5 -q --threads " + std::to_string(threads),
+                               dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    runs.push_back(RowsWithoutTime(out));
+  }
+  ASSERT_EQ(runs[0].size(), 4u);  // header + one row per class
+  EXPECT_EQ(runs[0], runs[1]);
+  EXPECT_EQ(runs[0], runs[2]);
+}
+
+TEST(Cli, BopAndNativeLayoutsGiveTheSamePoses) {
+  const fs::path dir = testing::TempDir("bop_vs_native");
+  nlohmann::json dets = Scene49Detections();
+  for (auto d : Scene49Detections()) {  // and image 3 too
+    d["image_id"] = 3;
+    dets.push_back(d);
+  }
+  WriteText(dir / "dets.json", dets.dump());
+  std::vector<std::vector<PoseResult>> results;
+  for (const std::string& root : {testing::YcbvDir(), testing::BopDir()}) {
+    const fs::path out = dir / (results.empty() ? "native.csv" : "bop.csv");
+    const CliResult r = RunCli("estimate --dataset " + root + " --detections " + (dir / "dets.json").string() +
+                                   " --out " + out.string() + " --iterations 8 -q",
+                               dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    auto rows = ReadResultsCsv(out.string());
+    ASSERT_TRUE(rows.ok()) << rows.status().ToString();
+    results.push_back(*rows);
+  }
+  ASSERT_EQ(results[0].size(), 6u);
+  ASSERT_EQ(results[0].size(), results[1].size());
+  for (size_t i = 0; i < results[0].size(); ++i) {
+    const PoseResult &a = results[0][i], &b = results[1][i];
+    EXPECT_EQ(a.obj_id, b.obj_id);
+    EXPECT_NEAR(a.score, b.score, 1e-6);
+    EXPECT_LT((a.T_cam_obj.R - b.T_cam_obj.R).cwiseAbs().maxCoeff(), 1e-6) << i;
+    EXPECT_LT((a.T_cam_obj.t - b.T_cam_obj.t).cwiseAbs().maxCoeff(), 1e-6) << i;  // metres
+  }
+}
+
+TEST(Cli, EvalScoresGroundTruthDetectionsRunOnBothLayouts) {
+  const fs::path dir = testing::TempDir("eval_cli");
+  for (const std::string& root : {testing::YcbvDir(), testing::BopDir()}) {
+    const CliResult d = RunCli("detections-from-gt --dataset " + root + " --out " + (dir / "d.json").string(), dir);
+    ASSERT_EQ(d.exit_code, 0) << d.err;
+    // An empty results file: every target is a failure, nothing crashes.
+    WriteText(dir / "empty.csv", "scene_id,im_id,obj_id,score,R,t,time\n");
+    const CliResult e = RunCli("eval --dataset " + root + " --results " + (dir / "empty.csv").string(), dir);
+    ASSERT_EQ(e.exit_code, 0) << e.err;
+    EXPECT_NE(e.out.find("ALL"), std::string::npos) << e.out;
+  }
+}
+
+TEST(Cli, HelpOnEveryCommand) {
+  const fs::path dir = testing::TempDir("help");
+  for (const char* cmd : {"", "estimate ", "detections-from-gt ", "eval "}) {
+    const CliResult r = RunCli(std::string(cmd) + "--help", dir);
+    EXPECT_EQ(r.exit_code, 0) << cmd;
+    EXPECT_NE(r.out.find("--"), std::string::npos) << cmd;
+  }
+}
+
+}  // namespace
+}  // namespace mcpose

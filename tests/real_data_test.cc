@@ -1,0 +1,178 @@
+// Integration tests on real YCB-Video frames (../shared/data/ycbv, see tests/test_data.h).
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "engine/initialize.h"
+#include "engine/pipeline.h"
+#include "engine/raster_cores.h"
+#include "mcpose/dataset.h"
+#include "mcpose/eval.h"
+#include "render/raster.h"
+#include "test_data.h"
+
+namespace mcpose {
+namespace {
+
+std::unique_ptr<Dataset> OpenYcbv() {
+  auto ds = Dataset::Open(testing::YcbvDir());
+  EXPECT_TRUE(ds.ok()) << ds.status().ToString();
+  return ds.ok() ? std::move(ds).value() : nullptr;
+}
+
+// Full-image z-buffer of one mesh at one pose, rendered by the scalar reference raster core.
+std::vector<float> RenderFullImage(const Mesh& mesh, const SE3& T, const Intrinsics& K) {
+  render::RasterParams p;
+  p.fx = K.fx, p.fy = K.fy, p.cx = K.cx, p.cy = K.cy;
+  p.box = render::PixelRect{0, 0, K.width, K.height};
+  std::vector<render::ScreenVertex> sv(mesh.vertices_m.size());
+  render::ProjectVertices(mesh.vertices_m, T.R.cast<float>(), T.t.cast<float>(), p, sv);
+  std::vector<float> z(static_cast<size_t>(K.width) * K.height, INFINITY);
+  render::RasterizeDepthReference(sv, mesh.triangles, p, z.data(), nullptr);
+  return z;
+}
+
+// Renders every ground-truth object of a frame into one z-buffer (the nearest object owns a
+// pixel) and compares each object's pixels with label.png (IoU) and, where both mark the
+// object and the depth is valid, with the observed depth (median |dz|).
+class GroundTruthRender : public ::testing::TestWithParam<FrameKey> {};
+
+TEST_P(GroundTruthRender, ReproducesLabelMaskAndObservedDepth) {
+  auto ds = OpenYcbv();
+  ASSERT_TRUE(ds);
+  auto frame = ds->LoadFrame(GetParam());
+  ASSERT_TRUE(frame.ok()) << frame.status().ToString();
+  const Intrinsics& K = frame->K;
+  const size_t n = static_cast<size_t>(K.width) * K.height;
+  std::vector<float> zmin(n, INFINITY);
+  std::vector<int> owner(n, -1);
+  for (size_t g = 0; g < frame->gt.size(); ++g) {
+    auto mesh = ds->LoadMesh(frame->gt[g].obj_id);
+    ASSERT_TRUE(mesh.ok()) << mesh.status().ToString();
+    const std::vector<float> z = RenderFullImage(*mesh, frame->gt[g].T_cam_obj, K);
+    for (size_t i = 0; i < n; ++i)
+      if (z[i] < zmin[i]) zmin[i] = z[i], owner[i] = static_cast<int>(g);
+  }
+  for (size_t g = 0; g < frame->gt.size(); ++g) {
+    auto mask = ds->LoadVisibleMask(frame->key, frame->gt[g]);
+    ASSERT_TRUE(mask.ok()) << mask.status().ToString();
+    int inter = 0, uni = 0;
+    std::vector<float> dz, dz_signed;
+    for (size_t i = 0; i < n; ++i) {
+      const bool r = owner[i] == static_cast<int>(g), m = mask->values[i] != 0;
+      inter += r && m;
+      uni += r || m;
+      if (r && m && frame->depth.depth_m[i] > 0) {
+        dz.push_back(std::fabs(zmin[i] - frame->depth.depth_m[i]));
+        dz_signed.push_back(frame->depth.depth_m[i] - zmin[i]);
+      }
+    }
+    if (uni == 0) continue;  // out of view (the mug of 0003/000138)
+    const double iou = static_cast<double>(inter) / uni;
+    EXPECT_GE(iou, 0.9) << "obj " << frame->gt[g].obj_id;
+    ASSERT_FALSE(dz.empty());
+    std::nth_element(dz.begin(), dz.begin() + dz.size() / 2, dz.end());
+    std::nth_element(dz_signed.begin(), dz_signed.begin() + dz_signed.size() / 2, dz_signed.end());
+    std::printf("  obj %2d: IoU %.4f, median |dz| %.2f mm, median dz %.2f mm\n", frame->gt[g].obj_id, iou,
+                1000 * dz[dz.size() / 2], 1000 * dz_signed[dz_signed.size() / 2]);
+    // The signed median is the renderer's bias (the data README measured -2.8 .. +2.0 mm).
+    EXPECT_LE(std::fabs(dz_signed[dz_signed.size() / 2]), 0.005) << "obj " << frame->gt[g].obj_id;
+    // The median of |dz| also holds the sensor noise. One real instance exceeds 5 mm for that
+    // reason: 052_extra_large_clamp in 0003/000138 (5.46 mm, signed median +2.0 mm).
+    const bool noisy = frame->key == FrameKey{3, 138} && frame->gt[g].obj_id == 20;
+    EXPECT_LE(dz[dz.size() / 2], noisy ? 0.006 : 0.005) << "obj " << frame->gt[g].obj_id;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(RealFrames, GroundTruthRender,
+                         ::testing::Values(FrameKey{0, 1}, FrameKey{1, 1}, FrameKey{2, 1},
+                                           FrameKey{3, 138}, FrameKey{49, 1}));
+
+// The ground-truth pose must score in the top 1% of the estimator's own random samples of the
+// object's tight box (the weight is what the filter climbs; if GT does not win, it cannot work).
+TEST(RealData, GroundTruthPoseScoresInTopOnePercentOfRandomSamples) {
+  auto ds = OpenYcbv();
+  ASSERT_TRUE(ds);
+  EstimatorOptions options;
+  options.samples = 620;
+  options.threads = 2;
+  engine::RasterCores cores(options.threads, options.backend);
+  int objects = 0;
+  for (FrameKey key : {FrameKey{49, 1}, FrameKey{2, 1}}) {
+    auto frame = ds->LoadFrame(key);
+    ASSERT_TRUE(frame.ok());
+    for (const GtInstance& gt : frame->gt) {
+      auto mask = ds->LoadVisibleMask(key, gt);
+      auto mesh = ds->LoadMesh(gt.obj_id);
+      ASSERT_TRUE(mask.ok() && mesh.ok());
+      // Tight box of the visible mask.
+      int x0 = mask->width, y0 = mask->height, x1 = -1, y1 = -1;
+      for (int y = 0; y < mask->height; ++y)
+        for (int x = 0; x < mask->width; ++x)
+          if (mask->at(x, y)) x0 = std::min(x0, x), y0 = std::min(y0, y), x1 = std::max(x1, x), y1 = std::max(y1, y);
+      if (x1 < 0) continue;
+      Detection det{key.scene_id, key.image_id, gt.obj_id, 1.0, double(x0), double(y0),
+                    double(x1 - x0 + 1), double(y1 - y0 + 1)};
+      std::vector<engine::BoxDepth> boxes;
+      boxes.push_back(engine::DistributeDepth(
+          frame->depth, frame->K, engine::ClipBox(det.x, det.y, det.w, det.h, 640, 480), 1.0, InlierMode::k1D));
+
+      filter::ParticleSet particles;
+      engine::InitializeSamples(frame->K, *mesh, std::span(&det, 1), boxes, options, 99, &particles);
+      // Append the ground-truth pose as the last sample.
+      const size_t n = particles.size();
+      particles.R_cam_obj.push_back(gt.T_cam_obj.R);
+      particles.t_cam_obj_m.push_back(gt.T_cam_obj.t);
+      particles.box.push_back(0);
+      particles.weight.push_back(0);
+      std::vector<score::InlierCounts> counts(n + 1);
+      engine::ScoreJob job;
+      job.mesh = &*mesh;
+      job.K = frame->K;
+      job.boxes = boxes;
+      cores.Score(job, particles, counts, nullptr);
+      std::vector<double> w;
+      for (const auto& c : counts)
+        w.push_back(score::Weight(c, 1.0, options.weight_a, options.weight_b, options.weight_c));
+      const double w_gt = w.back();
+      const int better = static_cast<int>(std::count_if(w.begin(), w.end() - 1, [&](double x) { return x > w_gt; }));
+      EXPECT_LE(better, static_cast<int>(0.01 * n)) << "obj " << gt.obj_id << " in " << key.scene_id << "/"
+                                                    << key.image_id << ": w_gt " << w_gt;
+      ++objects;
+    }
+  }
+  EXPECT_EQ(objects, 10);
+}
+
+// The whole estimator, default options, on two real frames with detector-like boxes:
+// ADD(-S) < 4 cm for at least 60% of their objects, as on the full set.
+TEST(RealData, EstimationOnTwoFramesMeetsAccuracyBound) {
+  auto ds = OpenYcbv();
+  ASSERT_TRUE(ds);
+  GtDetectionOptions det_options;
+  det_options.jitter = 0.1;
+  det_options.distractors = 0.3;
+  auto all = DetectionsFromGroundTruth(*ds, det_options);
+  ASSERT_TRUE(all.ok()) << all.status().ToString();
+  std::vector<Detection> dets;
+  for (const Detection& d : *all)
+    if ((d.scene_id == 49 && d.image_id == 1) || (d.scene_id == 0 && d.image_id == 1)) dets.push_back(d);
+  ASSERT_FALSE(dets.empty());
+
+  EstimatorOptions options;  // defaults: 620 samples, <= 50 iterations
+  options.threads = 2;
+  auto report = RunEstimation(*ds, dets, "test detections", options, nullptr);
+  ASSERT_TRUE(report.ok()) << report.status().ToString();
+  auto eval = Evaluate(*ds, report->results, &dets, EvalOptions{});
+  ASSERT_TRUE(eval.ok()) << eval.status().ToString();
+  EXPECT_EQ(eval->overall.instances, 7);
+  EXPECT_GE(eval->overall.add_s_lt_4cm, 0.6);
+  for (const auto& e : eval->instances)
+    std::printf("  obj %2d in %d/%d: ADD(-S) %.1f mm\n", e.obj_id, e.key.scene_id, e.key.image_id, 1000 * e.add_or_adds_m);
+}
+
+}  // namespace
+}  // namespace mcpose
