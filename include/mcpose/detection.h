@@ -12,7 +12,7 @@ struct Detection {
   int scene_id = 0;
   int image_id = 0;
   int obj_id = 0;        // = category_id
-  double score = 0;      // detector confidence in (0, 1]
+  double score = 0;      // detector confidence in [0, 1]
   double x = 0, y = 0;   // top-left corner of the box, pixels (BOP "bbox": [x, y, w, h])
   double w = 0, h = 0;   // box size, pixels
   double time_s = -1;    // detector time for the image, < 0 if absent

@@ -1,0 +1,36 @@
+// Small helpers shared by the file readers and writers of src/io: whole-file reads, atomic
+// writes, strict number parsing and whitespace splitting. All report errors through Status.
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "mcpose/status.h"
+
+namespace mcpose::io {
+
+// The bytes of `path`. NotFound if it does not exist, DataLoss if it cannot be read.
+StatusOr<std::string> ReadFileToString(const std::string& path);
+
+// Writes `contents` to `path` + ".tmp", then renames it to `path`: readers never see a partial
+// file, and on error no file is left behind.
+Status WriteFileAtomic(const std::string& path, const std::string& contents);
+
+// Strict parsers: the whole token must be a number (no leading/trailing characters).
+bool ParseDouble(std::string_view token, double* value);
+bool ParseInt(std::string_view token, int* value);
+
+// `text` without leading and trailing whitespace (space, tab, CR, LF).
+std::string_view Trim(std::string_view text);
+// Tokens of `text` separated by runs of spaces or tabs.
+std::vector<std::string_view> SplitWhitespace(std::string_view text);
+// Fields of `text` separated by `sep` (empty fields kept).
+std::vector<std::string_view> Split(std::string_view text, char sep);
+// The lines of `text` (LF or CRLF endings; the CR is removed).
+std::vector<std::string_view> SplitLines(std::string_view text);
+
+// The last path component, for short error messages ("scene_gt.json").
+std::string FileName(const std::string& path);
+
+}  // namespace mcpose::io

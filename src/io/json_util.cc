@@ -1,0 +1,63 @@
+#include "io/json_util.h"
+
+#include <cmath>
+#include <exception>
+#include <limits>
+
+#include "io/io_util.h"
+
+namespace mcpose::io {
+
+StatusOr<nlohmann::json> ReadJsonFile(const std::string& path) {
+  MCPOSE_ASSIGN_OR_RETURN(std::string text, ReadFileToString(path));
+  try {
+    return nlohmann::json::parse(text);
+  } catch (const std::exception& e) {
+    std::string message = path + ": malformed JSON (" + e.what() + ")";
+    // Python's json module writes NaN / Infinity for non-finite floats; JSON has no such values.
+    if (text.find("NaN") != std::string::npos || text.find("Infinity") != std::string::npos) {
+      message += "; non-finite numbers such as NaN or Infinity are not valid JSON";
+    }
+    return DataLoss(message);
+  }
+}
+
+bool JsonToDouble(const nlohmann::json& value, double* out) {
+  if (!value.is_number()) return false;
+  const double v = value.get<double>();
+  if (!std::isfinite(v)) return false;
+  *out = v;
+  return true;
+}
+
+bool JsonToInt(const nlohmann::json& value, int* out) {
+  if (value.is_number_integer()) {  // signed or unsigned
+    if (value.is_number_unsigned()) {
+      const auto u = value.get<uint64_t>();
+      if (u > static_cast<uint64_t>(std::numeric_limits<int>::max())) return false;
+      *out = static_cast<int>(u);
+      return true;
+    }
+    const auto i = value.get<int64_t>();
+    if (i < std::numeric_limits<int>::min() || i > std::numeric_limits<int>::max()) return false;
+    *out = static_cast<int>(i);
+    return true;
+  }
+  if (value.is_number_float()) {  // 49.0 written by a float-happy writer
+    const double v = value.get<double>();
+    if (!std::isfinite(v) || v != std::floor(v) || std::fabs(v) > 2e9) return false;
+    *out = static_cast<int>(v);
+    return true;
+  }
+  return false;
+}
+
+bool JsonToDoubles(const nlohmann::json& value, size_t n, double* out) {
+  if (!value.is_array() || value.size() != n) return false;
+  for (size_t i = 0; i < n; ++i) {
+    if (!JsonToDouble(value[i], &out[i])) return false;
+  }
+  return true;
+}
+
+}  // namespace mcpose::io

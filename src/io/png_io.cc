@@ -1,0 +1,303 @@
+#include "io/png_io.h"
+
+#include <png.h>
+
+#include <algorithm>
+#include <cmath>
+#include <csetjmp>
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <filesystem>
+
+#include "io/io_util.h"
+
+namespace mcpose::io {
+namespace {
+
+constexpr size_t kPngSignatureBytes = 8;
+
+// State shared with the libpng callbacks. It lives in the caller's frame, outside the function
+// that calls setjmp, so nothing it holds is left indeterminate by a longjmp.
+struct PngReadState {
+  const std::string* bytes = nullptr;
+  size_t offset = 0;
+  std::string error;  // set by the error callback before it jumps back
+  bool truncated = false;
+
+  // Header of the image.
+  png_uint_32 width = 0, height = 0;
+  int bit_depth = 0, color_type = 0, interlace = 0;
+
+  // Decoded rows after the transforms we ask for.
+  std::vector<unsigned char> pixels;
+  std::vector<png_bytep> rows;  // pointers into `pixels`
+  size_t row_bytes = 0;
+};
+
+// Sizes the pixel buffer and the row pointers; false if the memory cannot be had.
+bool AllocatePixels(PngReadState* state) {
+  try {
+    state->pixels.resize(state->row_bytes * state->height);
+    state->rows.resize(state->height);
+  } catch (const std::exception&) {
+    return false;
+  }
+  for (png_uint_32 y = 0; y < state->height; ++y) {
+    state->rows[y] = state->pixels.data() + y * state->row_bytes;
+  }
+  return true;
+}
+
+void ReadFromMemory(png_structp png, png_bytep out, png_size_t length) {
+  auto* state = static_cast<PngReadState*>(png_get_io_ptr(png));
+  if (state->offset + length > state->bytes->size()) {
+    state->truncated = true;
+    png_error(png, "unexpected end of file");
+  }
+  std::memcpy(out, state->bytes->data() + state->offset, length);
+  state->offset += length;
+}
+
+void OnPngError(png_structp png, png_const_charp message) {
+  auto* state = static_cast<PngReadState*>(png_get_error_ptr(png));
+  if (state->error.empty()) state->error = message ? message : "unknown libpng error";
+  png_longjmp(png, 1);
+}
+
+void OnPngWarning(png_structp, png_const_charp) {}  // benign (e.g. unknown chunks): ignored
+
+const char* ColorTypeName(int color_type) {
+  switch (color_type) {
+    case PNG_COLOR_TYPE_GRAY: return "grayscale";
+    case PNG_COLOR_TYPE_GRAY_ALPHA: return "grayscale+alpha";
+    case PNG_COLOR_TYPE_PALETTE: return "palette";
+    case PNG_COLOR_TYPE_RGB: return "RGB";
+    case PNG_COLOR_TYPE_RGB_ALPHA: return "RGBA";
+  }
+  return "unknown color type";
+}
+
+int Channels(int color_type) {
+  switch (color_type) {
+    case PNG_COLOR_TYPE_GRAY_ALPHA: return 2;
+    case PNG_COLOR_TYPE_RGB: return 3;
+    case PNG_COLOR_TYPE_RGB_ALPHA: return 4;
+  }
+  return 1;
+}
+
+std::string Describe(const PngReadState& s) {
+  return std::to_string(s.bit_depth) + "-bit " + ColorTypeName(s.color_type) + " (" +
+         std::to_string(Channels(s.color_type)) + " channel" +
+         (Channels(s.color_type) > 1 ? "s" : "") + ")";
+}
+
+// What the caller accepts; checked between reading the header and decoding the pixels.
+enum class PngKind { kGray16, kMask };
+
+bool Accepts(PngKind kind, const PngReadState& s) {
+  if (s.color_type != PNG_COLOR_TYPE_GRAY) return false;
+  if (kind == PngKind::kGray16) return s.bit_depth == 16;
+  return true;  // masks: gray of any bit depth (1, 2, 4, 8, 16)
+}
+
+// The libpng calls. Returns 0 on success, 1 after a libpng error, 2 if the format is refused,
+// 3 if the pixels do not fit in memory. Everything that outlives a longjmp lives in `state`
+// (the caller's frame), so no destructor is skipped and no local is left indeterminate.
+int DecodePng(PngReadState* state, PngKind kind) {
+  png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, state, OnPngError, OnPngWarning);
+  if (!png) return 1;
+  png_infop info = png_create_info_struct(png);
+  if (!info) {
+    png_destroy_read_struct(&png, nullptr, nullptr);
+    return 1;
+  }
+  if (setjmp(png_jmpbuf(png))) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    return 1;
+  }
+  png_set_read_fn(png, state, ReadFromMemory);
+  png_read_info(png, info);
+  png_get_IHDR(png, info, &state->width, &state->height, &state->bit_depth, &state->color_type,
+               &state->interlace, nullptr, nullptr);
+  if (!Accepts(kind, *state)) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    return 2;
+  }
+  // Sub-byte gray masks become one byte per pixel; 16-bit stays big-endian (decoded below).
+  if (state->bit_depth < 8) png_set_expand_gray_1_2_4_to_8(png);
+  png_set_interlace_handling(png);
+  png_read_update_info(png, info);
+  state->row_bytes = png_get_rowbytes(png, info);
+  if (!AllocatePixels(state)) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    return 3;
+  }
+  png_read_image(png, state->rows.data());
+  png_read_end(png, nullptr);  // checks the chunks after the image data (truncation, CRC)
+  png_destroy_read_struct(&png, &info, nullptr);
+  return 0;
+}
+
+// Reads the file, checks the signature and decodes. Errors name `path`.
+Status ReadPng(const std::string& path, PngKind kind, const char* wanted, PngReadState* state) {
+  StatusOr<std::string> bytes = ReadFileToString(path);
+  if (!bytes.ok()) return bytes.status();
+  if (bytes->size() < kPngSignatureBytes ||
+      png_sig_cmp(reinterpret_cast<png_const_bytep>(bytes->data()), 0, kPngSignatureBytes) != 0) {
+    return DataLoss(path + ": not a PNG file (bad signature, " + std::to_string(bytes->size()) +
+                    " bytes)");
+  }
+  state->bytes = &*bytes;
+  const int result = DecodePng(state, kind);
+  state->bytes = nullptr;
+  if (result == 3) {
+    return DataLoss(path + ": image too large to decode (" + std::to_string(state->width) + "x" +
+                    std::to_string(state->height) + ")");
+  }
+  if (result == 2) {
+    return InvalidArgument(path + ": " + wanted + ", got " + Describe(*state) + " " +
+                           std::to_string(state->width) + "x" + std::to_string(state->height));
+  }
+  if (result != 0) {
+    if (state->truncated) return DataLoss(path + ": PNG file is truncated (unexpected end of file)");
+    return DataLoss(path + ": corrupt PNG data (libpng: " +
+                    (state->error.empty() ? std::string("out of memory") : state->error) + ")");
+  }
+  return Status::Ok();
+}
+
+// Shared PNG writer: 8- or 16-bit grayscale from big-endian row bytes.
+int EncodePng(std::FILE* f, int width, int height, int bit_depth,
+              const std::vector<unsigned char>& bytes, std::string* error) {
+  png_structp png =
+      png_create_write_struct(PNG_LIBPNG_VER_STRING, error,
+                              [](png_structp p, png_const_charp m) {
+                                *static_cast<std::string*>(png_get_error_ptr(p)) = m;
+                                png_longjmp(p, 1);
+                              },
+                              OnPngWarning);
+  if (!png) return 1;
+  png_infop info = png_create_info_struct(png);
+  if (!info) {
+    png_destroy_write_struct(&png, nullptr);
+    return 1;
+  }
+  if (setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    return 1;
+  }
+  png_init_io(png, f);
+  png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height),
+               bit_depth, PNG_COLOR_TYPE_GRAY, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
+               PNG_FILTER_TYPE_DEFAULT);
+  png_write_info(png, info);
+  const size_t row_bytes = static_cast<size_t>(width) * (bit_depth / 8);
+  for (int y = 0; y < height; ++y) {
+    png_write_row(png, const_cast<png_bytep>(bytes.data() + y * row_bytes));
+  }
+  png_write_end(png, nullptr);
+  png_destroy_write_struct(&png, &info);
+  return 0;
+}
+
+Status WritePng(const std::string& path, int width, int height, int bit_depth,
+                const std::vector<unsigned char>& bytes) {
+  if (width <= 0 || height <= 0) {
+    return InvalidArgument(path + ": cannot write an empty image (" + std::to_string(width) + "x" +
+                           std::to_string(height) + ")");
+  }
+  const std::string tmp = path + ".tmp";
+  std::FILE* f = std::fopen(tmp.c_str(), "wb");
+  if (!f) return NotFound(tmp + ": cannot create file");
+  std::string error;
+  const int result = EncodePng(f, width, height, bit_depth, bytes, &error);
+  const bool closed = std::fclose(f) == 0;
+  std::error_code ec;
+  if (result != 0 || !closed) {
+    std::filesystem::remove(tmp, ec);
+    return Internal(path + ": PNG write failed (" + (error.empty() ? "I/O error" : error) + ")");
+  }
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) return Internal(path + ": cannot rename " + tmp + " (" + ec.message() + ")");
+  return Status::Ok();
+}
+
+}  // namespace
+
+StatusOr<Gray16Image> ReadGray16Png(const std::string& path) {
+  PngReadState state;
+  MCPOSE_RETURN_IF_ERROR(
+      ReadPng(path, PngKind::kGray16, "depth PNG must be 16-bit single-channel", &state));
+  Gray16Image image;
+  image.width = static_cast<int>(state.width);
+  image.height = static_cast<int>(state.height);
+  image.values.resize(static_cast<size_t>(image.width) * image.height);
+  // PNG stores 16-bit samples big-endian.
+  for (size_t i = 0; i < image.values.size(); ++i) {
+    image.values[i] = static_cast<uint16_t>((state.pixels[2 * i] << 8) | state.pixels[2 * i + 1]);
+  }
+  return image;
+}
+
+StatusOr<DepthImage> ReadDepthPng(const std::string& path, double metres_per_unit) {
+  if (!std::isfinite(metres_per_unit) || metres_per_unit <= 0) {
+    return InvalidArgument(path + ": depth scale must be finite and positive, got " +
+                           std::to_string(metres_per_unit) + " m per unit");
+  }
+  MCPOSE_ASSIGN_OR_RETURN(Gray16Image raw, ReadGray16Png(path));
+  DepthImage depth;
+  depth.width = raw.width;
+  depth.height = raw.height;
+  depth.depth_m.resize(raw.values.size());
+  for (size_t i = 0; i < raw.values.size(); ++i) {
+    depth.depth_m[i] = static_cast<float>(raw.values[i] * metres_per_unit);
+  }
+  return depth;
+}
+
+StatusOr<MaskImage> ReadMaskPng(const std::string& path) {
+  PngReadState state;
+  MCPOSE_RETURN_IF_ERROR(
+      ReadPng(path, PngKind::kMask, "mask PNG must be single-channel grayscale", &state));
+  MaskImage mask;
+  mask.width = static_cast<int>(state.width);
+  mask.height = static_cast<int>(state.height);
+  const size_t n = static_cast<size_t>(mask.width) * mask.height;
+  mask.values.resize(n);
+  if (state.bit_depth == 16) {
+    for (size_t i = 0; i < n; ++i) {
+      mask.values[i] = (state.pixels[2 * i] | state.pixels[2 * i + 1]) ? 255 : 0;
+    }
+  } else {
+    std::memcpy(mask.values.data(), state.pixels.data(), n);
+  }
+  return mask;
+}
+
+Status WriteGray16Png(const std::string& path, const Gray16Image& image) {
+  const size_t n = static_cast<size_t>(std::max(image.width, 0)) * std::max(image.height, 0);
+  if (image.values.size() != n) {
+    return InvalidArgument(path + ": image has " + std::to_string(image.values.size()) +
+                           " values, expected " + std::to_string(n));
+  }
+  std::vector<unsigned char> bytes(2 * n);
+  for (size_t i = 0; i < n; ++i) {
+    bytes[2 * i] = static_cast<unsigned char>(image.values[i] >> 8);
+    bytes[2 * i + 1] = static_cast<unsigned char>(image.values[i] & 0xff);
+  }
+  return WritePng(path, image.width, image.height, 16, bytes);
+}
+
+Status WriteMaskPng(const std::string& path, const MaskImage& mask) {
+  const size_t n = static_cast<size_t>(std::max(mask.width, 0)) * std::max(mask.height, 0);
+  if (mask.values.size() != n) {
+    return InvalidArgument(path + ": mask has " + std::to_string(mask.values.size()) +
+                           " values, expected " + std::to_string(n));
+  }
+  return WritePng(path, mask.width, mask.height, 8,
+                  std::vector<unsigned char>(mask.values.begin(), mask.values.end()));
+}
+
+}  // namespace mcpose::io

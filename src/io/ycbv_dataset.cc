@@ -1,0 +1,435 @@
+#include "io/ycbv_dataset.h"
+
+#include <matio.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <map>
+
+#include "io/io_util.h"
+#include "io/obj_io.h"
+#include "io/png_io.h"
+
+namespace mcpose::io {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A numeric MATLAB array converted to double, column-major, with its dimensions.
+struct MatArray {
+  std::vector<size_t> dims;
+  std::vector<double> values;
+};
+
+template <typename T>
+void ConvertAll(const void* data, size_t n, std::vector<double>* out) {
+  const T* p = static_cast<const T*>(data);
+  out->resize(n);
+  for (size_t i = 0; i < n; ++i) (*out)[i] = static_cast<double>(p[i]);
+}
+
+std::string DimsString(const std::vector<size_t>& dims) {
+  std::string s;
+  for (size_t i = 0; i < dims.size(); ++i) {
+    if (i) s += 'x';
+    s += std::to_string(dims[i]);
+  }
+  return s;
+}
+
+// Reads variable `name` of any real numeric class. Errors name `path` and `name`.
+StatusOr<MatArray> ReadMatArray(mat_t* mat, const std::string& path, const char* name) {
+  matvar_t* var = Mat_VarRead(mat, name);
+  if (!var) return InvalidArgument(path + ": variable '" + name + "' is missing or unreadable");
+  MatArray array;
+  array.dims.assign(var->dims, var->dims + var->rank);
+  size_t n = 1;
+  for (size_t d : array.dims) n *= d;
+  const bool complex_or_sparse = var->isComplex || var->class_type == MAT_C_SPARSE;
+  const size_t element_bytes = Mat_SizeOfClass(var->class_type);
+  const bool enough_data = var->data && element_bytes > 0 && var->nbytes >= n * element_bytes;
+  bool numeric = !complex_or_sparse && enough_data;
+  if (numeric) {
+    switch (var->class_type) {
+      case MAT_C_DOUBLE: ConvertAll<double>(var->data, n, &array.values); break;
+      case MAT_C_SINGLE: ConvertAll<float>(var->data, n, &array.values); break;
+      case MAT_C_INT8: ConvertAll<int8_t>(var->data, n, &array.values); break;
+      case MAT_C_UINT8: ConvertAll<uint8_t>(var->data, n, &array.values); break;
+      case MAT_C_INT16: ConvertAll<int16_t>(var->data, n, &array.values); break;
+      case MAT_C_UINT16: ConvertAll<uint16_t>(var->data, n, &array.values); break;
+      case MAT_C_INT32: ConvertAll<int32_t>(var->data, n, &array.values); break;
+      case MAT_C_UINT32: ConvertAll<uint32_t>(var->data, n, &array.values); break;
+      case MAT_C_INT64: ConvertAll<int64_t>(var->data, n, &array.values); break;
+      case MAT_C_UINT64: ConvertAll<uint64_t>(var->data, n, &array.values); break;
+      default: numeric = false;
+    }
+  }
+  const int class_type = static_cast<int>(var->class_type);
+  Mat_VarFree(var);
+  if (!numeric) {
+    return InvalidArgument(path + ": variable '" + name + "' is not a real numeric array (class " +
+                           std::to_string(class_type) + ")");
+  }
+  for (size_t i = 0; i < n; ++i) {
+    if (!std::isfinite(array.values[i])) {
+      return InvalidArgument(path + ": variable '" + name + "' has a non-finite value at index " +
+                             std::to_string(i));
+    }
+  }
+  return array;
+}
+
+// MATLAB dimensions without trailing singleton dimensions beyond the second.
+std::vector<size_t> Squeeze(std::vector<size_t> dims) {
+  while (dims.size() > 2 && dims.back() == 1) dims.pop_back();
+  return dims;
+}
+
+StatusOr<YcbvMeta> ReadMetaFromOpenFile(mat_t* mat, const std::string& path) {
+  YcbvMeta meta;
+
+  // intrinsic_matrix: 3x3, column-major in the file.
+  MCPOSE_ASSIGN_OR_RETURN(MatArray K, ReadMatArray(mat, path, "intrinsic_matrix"));
+  if (Squeeze(K.dims) != std::vector<size_t>{3, 3}) {
+    return InvalidArgument(path + ": intrinsic_matrix must be 3x3, got " + DimsString(K.dims));
+  }
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) meta.K(r, c) = K.values[r + 3 * c];
+  }
+
+  // factor_depth: one positive number (uint16 in real frames, double in synthetic ones).
+  MCPOSE_ASSIGN_OR_RETURN(MatArray factor, ReadMatArray(mat, path, "factor_depth"));
+  if (factor.values.size() != 1 || !(factor.values[0] > 0)) {
+    return InvalidArgument(path + ": factor_depth must be one positive number, got " +
+                           (factor.values.size() == 1 ? std::to_string(factor.values[0])
+                                                      : DimsString(factor.dims) + " values"));
+  }
+  meta.factor_depth = factor.values[0];
+
+  // cls_indexes: N positive integers (uint8 Nx1 or single 1xN).
+  MCPOSE_ASSIGN_OR_RETURN(MatArray cls, ReadMatArray(mat, path, "cls_indexes"));
+  const std::vector<size_t> cls_dims = Squeeze(cls.dims);
+  if (cls_dims.size() != 2 || std::min(cls_dims[0], cls_dims[1]) != 1) {
+    return InvalidArgument(path + ": cls_indexes must be a vector, got " + DimsString(cls.dims));
+  }
+  for (size_t i = 0; i < cls.values.size(); ++i) {
+    const double v = cls.values[i];
+    if (v < 1 || v != std::floor(v) || v > 1e6) {
+      return InvalidArgument(path + ": cls_indexes[" + std::to_string(i) +
+                             "] = " + std::to_string(v) + " is not a positive integer");
+    }
+    meta.cls_indexes.push_back(static_cast<int>(v));
+  }
+  const size_t n = meta.cls_indexes.size();
+
+  // poses: 3x4xN, or 3x4 when N = 1; column-major, element (r, c, k) at r + 3 c + 12 k.
+  MCPOSE_ASSIGN_OR_RETURN(MatArray poses, ReadMatArray(mat, path, "poses"));
+  const std::vector<size_t> pose_dims = Squeeze(poses.dims);
+  const bool shape_ok = pose_dims.size() >= 2 && pose_dims.size() <= 3 && pose_dims[0] == 3 &&
+                        pose_dims[1] == 4 && (pose_dims.size() == 3 ? pose_dims[2] : 1) == n;
+  if (!shape_ok) {
+    return InvalidArgument(path + ": poses must be 3x4x" + std::to_string(n) +
+                           " (one per cls_indexes entry), got " + DimsString(poses.dims));
+  }
+  for (size_t k = 0; k < n; ++k) {
+    SE3 T;
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) T.R(r, c) = poses.values[r + 3 * c + 12 * k];
+      T.t(r) = poses.values[r + 3 * 3 + 12 * k];
+    }
+    meta.poses.push_back(T);
+  }
+  return meta;
+}
+
+std::string ObjName(int obj_id) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "obj_%06d", obj_id);
+  return buffer;
+}
+
+bool AllDigits(const std::string& s, size_t n) {
+  return s.size() == n && std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
+class YcbvDataset final : public Dataset {
+ public:
+  YcbvDataset(std::string root, std::vector<std::string> class_names,
+              std::map<FrameKey, std::string> frame_prefixes, std::vector<int> object_ids)
+      : root_(std::move(root)),
+        class_names_(std::move(class_names)),
+        frame_prefixes_(std::move(frame_prefixes)),
+        object_ids_(std::move(object_ids)) {}
+
+  DatasetFormat format() const override { return DatasetFormat::kYcbv; }
+  const std::string& root() const override { return root_; }
+
+  std::vector<FrameKey> Frames() const override {
+    std::vector<FrameKey> keys;
+    keys.reserve(frame_prefixes_.size());
+    for (const auto& [key, prefix] : frame_prefixes_) keys.push_back(key);
+    return keys;
+  }
+
+  StatusOr<Frame> LoadFrame(const FrameKey& key) const override {
+    MCPOSE_ASSIGN_OR_RETURN(const std::string prefix, Prefix(key));
+    const std::string meta_path = prefix + "-meta.mat";
+    MCPOSE_ASSIGN_OR_RETURN(YcbvMeta meta, ReadYcbvMeta(meta_path));
+
+    // Depth in metres; the PNG gives the image size.
+    Frame frame;
+    frame.key = key;
+    frame.depth_path = prefix + "-depth.png";
+    MCPOSE_ASSIGN_OR_RETURN(frame.depth, ReadDepthPng(frame.depth_path, 1.0 / meta.factor_depth));
+
+    // Intrinsics: a pinhole K (zero skew, last row 0 0 1) with the principal point in the image.
+    const Eigen::Matrix3d& K = meta.K;
+    frame.K = {K(0, 0), K(1, 1), K(0, 2), K(1, 2), frame.depth.width, frame.depth.height};
+    std::string error;
+    if (!frame.K.IsValid(&error)) {
+      return InvalidArgument(meta_path + ": intrinsic_matrix: " + error);
+    }
+    if (K(0, 1) != 0 || K(1, 0) != 0 || K(2, 0) != 0 || K(2, 1) != 0 || K(2, 2) != 1) {
+      return InvalidArgument(meta_path + ": intrinsic_matrix is not a pinhole matrix " +
+                             "[fx 0 cx; 0 fy cy; 0 0 1]");
+    }
+    if (!(frame.K.cx >= 0 && frame.K.cx <= frame.K.width && frame.K.cy >= 0 &&
+          frame.K.cy <= frame.K.height)) {
+      return InvalidArgument(frame.depth_path + ": image size " + std::to_string(frame.K.width) +
+                             "x" + std::to_string(frame.K.height) +
+                             " does not contain the principal point of " + meta_path);
+    }
+
+    // Ground truth in meta.mat order.
+    for (size_t i = 0; i < meta.poses.size(); ++i) {
+      const int obj_id = meta.cls_indexes[i];
+      if (obj_id > static_cast<int>(class_names_.size())) {
+        return InvalidArgument(meta_path + ": cls_indexes[" + std::to_string(i) + "] = " +
+                               std::to_string(obj_id) + " is not a class of classes.txt (" +
+                               std::to_string(class_names_.size()) + " classes)");
+      }
+      frame.gt.push_back({obj_id, static_cast<int>(i), meta.poses[i]});
+    }
+    return frame;
+  }
+
+  StatusOr<MaskImage> LoadVisibleMask(const FrameKey& key, const GtInstance& gt) const override {
+    MCPOSE_ASSIGN_OR_RETURN(const std::string prefix, Prefix(key));
+    const std::string label_path = prefix + "-label.png";
+    if (gt.obj_id < 1 || gt.obj_id > 255) {
+      return InvalidArgument(label_path + ": obj_id " + std::to_string(gt.obj_id) +
+                             " cannot appear in an 8-bit label image");
+    }
+    MCPOSE_ASSIGN_OR_RETURN(MaskImage mask, ReadMaskPng(label_path));
+    for (uint8_t& v : mask.values) v = (v == gt.obj_id) ? 255 : 0;
+    return mask;
+  }
+
+  std::vector<int> ObjectIds() const override { return object_ids_; }
+
+  std::string ObjectName(int obj_id) const override {
+    if (obj_id >= 1 && obj_id <= static_cast<int>(class_names_.size())) {
+      return class_names_[obj_id - 1];
+    }
+    return ObjName(obj_id);
+  }
+
+  StatusOr<Mesh> LoadMesh(int obj_id) const override {
+    MCPOSE_ASSIGN_OR_RETURN(const std::string dir, ModelDir(obj_id));
+    return ReadObjMesh(dir + "/textured_simple.obj");
+  }
+
+  StatusOr<std::vector<Eigen::Vector3f>> LoadEvalPoints(int obj_id) const override {
+    MCPOSE_ASSIGN_OR_RETURN(const std::string dir, ModelDir(obj_id));
+    return ReadXyzPoints(dir + "/points.xyz");
+  }
+
+ private:
+  StatusOr<std::string> Prefix(const FrameKey& key) const {
+    const auto it = frame_prefixes_.find(key);
+    if (it == frame_prefixes_.end()) {
+      return NotFound(root_ + ": no frame with scene_id " + std::to_string(key.scene_id) +
+                      " and image_id " + std::to_string(key.image_id) + " in data/");
+    }
+    return it->second;
+  }
+
+  StatusOr<std::string> ModelDir(int obj_id) const {
+    if (!std::binary_search(object_ids_.begin(), object_ids_.end(), obj_id)) {
+      return NotFound(root_ + ": no model with obj_id " + std::to_string(obj_id) +
+                      " (classes.txt lists " + std::to_string(class_names_.size()) +
+                      " classes; models/<name>/textured_simple.obj must exist)");
+    }
+    return root_ + "/models/" + class_names_[obj_id - 1];
+  }
+
+  std::string root_;
+  std::vector<std::string> class_names_;             // element k - 1: obj_id k
+  std::map<FrameKey, std::string> frame_prefixes_;   // ".../data/0049/000001"
+  std::vector<int> object_ids_;                      // sorted; classes with a mesh file
+};
+
+// classes.txt: one name per line; line k is obj_id k. Trailing empty lines are allowed.
+StatusOr<std::vector<std::string>> ReadClassNames(const std::string& path) {
+  MCPOSE_ASSIGN_OR_RETURN(std::string text, ReadFileToString(path));
+  std::vector<std::string> names;
+  for (std::string_view line : SplitLines(text)) names.emplace_back(Trim(line));
+  while (!names.empty() && names.back().empty()) names.pop_back();
+  if (names.empty()) return InvalidArgument(path + ": no class names");
+  for (size_t i = 0; i < names.size(); ++i) {
+    if (names[i].empty() || names[i].find_first_of("/\\") != std::string::npos) {
+      return InvalidArgument(path + ": line " + std::to_string(i + 1) +
+                             ": expected a class name, got '" + names[i] + "'");
+    }
+  }
+  return names;
+}
+
+StatusOr<std::unique_ptr<Dataset>> OpenYcbv(const std::string& root) {
+  MCPOSE_ASSIGN_OR_RETURN(std::vector<std::string> names, ReadClassNames(root + "/classes.txt"));
+
+  // Objects: the classes whose mesh is present.
+  std::vector<int> object_ids;
+  std::error_code ec;
+  for (size_t i = 0; i < names.size(); ++i) {
+    if (fs::is_regular_file(root + "/models/" + names[i] + "/textured_simple.obj", ec)) {
+      object_ids.push_back(static_cast<int>(i + 1));
+    }
+  }
+
+  // Frames: data/<4-digit video>/<6-digit frame>-meta.mat.
+  std::map<FrameKey, std::string> frames;
+  const std::string data_dir = root + "/data";
+  for (fs::directory_iterator video(data_dir, ec), end; !ec && video != end; video.increment(ec)) {
+    const std::string video_name = video->path().filename().string();
+    if (!AllDigits(video_name, 4) || !video->is_directory(ec)) continue;
+    std::error_code frame_ec;
+    for (fs::directory_iterator file(video->path(), frame_ec); !frame_ec && file != end;
+         file.increment(frame_ec)) {
+      const std::string name = file->path().filename().string();
+      constexpr std::string_view kSuffix = "-meta.mat";
+      if (name.size() != 6 + kSuffix.size() || !name.ends_with(kSuffix)) continue;
+      const std::string frame_name = name.substr(0, 6);
+      if (!AllDigits(frame_name, 6)) continue;
+      const FrameKey key{std::stoi(video_name), std::stoi(frame_name)};
+      frames[key] = data_dir + "/" + video_name + "/" + frame_name;
+    }
+    if (frame_ec) {
+      return DataLoss(video->path().string() + ": cannot list folder (" + frame_ec.message() + ")");
+    }
+  }
+  if (ec) return DataLoss(data_dir + ": cannot list folder (" + ec.message() + ")");
+  return std::unique_ptr<Dataset>(
+      new YcbvDataset(root, std::move(names), std::move(frames), std::move(object_ids)));
+}
+
+}  // namespace
+
+StatusOr<YcbvMeta> ReadYcbvMeta(const std::string& path) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) return NotFound(path + ": file does not exist");
+  mat_t* mat = Mat_Open(path.c_str(), MAT_ACC_RDONLY);
+  if (!mat) return DataLoss(path + ": not a readable MATLAB MAT-file");
+  StatusOr<YcbvMeta> meta = InvalidArgument(path + ": not read");
+  try {
+    meta = ReadMetaFromOpenFile(mat, path);
+  } catch (const std::exception& e) {
+    meta = Internal(path + ": MAT-file read failed (" + e.what() + ")");
+  }
+  Mat_Close(mat);
+  return meta;
+}
+
+Status WriteYcbvMeta(const std::string& path, const YcbvMeta& meta) {
+  const size_t n = meta.cls_indexes.size();
+  if (meta.poses.size() != n) {
+    return InvalidArgument(path + ": " + std::to_string(meta.poses.size()) + " poses for " +
+                           std::to_string(n) + " cls_indexes");
+  }
+  // Column-major arrays, as MATLAB stores them.
+  std::vector<double> K(9), poses(12 * n);
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) K[r + 3 * c] = meta.K(r, c);
+  }
+  for (size_t k = 0; k < n; ++k) {
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) poses[r + 3 * c + 12 * k] = meta.poses[k].R(r, c);
+      poses[r + 9 + 12 * k] = meta.poses[k].t(r);
+    }
+  }
+  std::vector<uint8_t> cls(n);
+  for (size_t k = 0; k < n; ++k) {
+    if (meta.cls_indexes[k] < 0 || meta.cls_indexes[k] > 255) {
+      return InvalidArgument(path + ": cls_indexes[" + std::to_string(k) + "] does not fit uint8");
+    }
+    cls[k] = static_cast<uint8_t>(meta.cls_indexes[k]);
+  }
+  double factor = meta.factor_depth;
+
+  const std::string tmp = path + ".tmp";
+  mat_t* mat = Mat_CreateVer(tmp.c_str(), nullptr, MAT_FT_MAT5);
+  if (!mat) return NotFound(tmp + ": cannot create MAT-file");
+  struct Variable {
+    const char* name;
+    matio_classes class_type;
+    matio_types data_type;
+    std::vector<size_t> dims;
+    void* data;
+  } variables[] = {
+      {"intrinsic_matrix", MAT_C_DOUBLE, MAT_T_DOUBLE, {3, 3}, K.data()},
+      {"factor_depth", MAT_C_DOUBLE, MAT_T_DOUBLE, {1, 1}, &factor},
+      {"poses", MAT_C_DOUBLE, MAT_T_DOUBLE, {3, 4, n}, poses.data()},
+      {"cls_indexes", MAT_C_UINT8, MAT_T_UINT8, {n, 1}, cls.data()},
+  };
+  bool ok = true;
+  for (Variable& v : variables) {
+    matvar_t* var = Mat_VarCreate(v.name, v.class_type, v.data_type, static_cast<int>(v.dims.size()),
+                                  v.dims.data(), v.data, 0);
+    ok = ok && var && Mat_VarWrite(mat, var, MAT_COMPRESSION_NONE) == 0;
+    if (var) Mat_VarFree(var);
+  }
+  ok = Mat_Close(mat) == 0 && ok;
+  std::error_code ec;
+  if (!ok) {
+    fs::remove(tmp, ec);
+    return Internal(path + ": MAT-file write failed");
+  }
+  fs::rename(tmp, path, ec);
+  if (ec) return Internal(path + ": cannot rename " + tmp + " (" + ec.message() + ")");
+  return Status::Ok();
+}
+
+StatusOr<std::vector<Eigen::Vector3f>> ReadXyzPoints(const std::string& path) {
+  MCPOSE_ASSIGN_OR_RETURN(std::string text, ReadFileToString(path));
+  std::vector<Eigen::Vector3f> points;
+  const std::vector<std::string_view> lines = SplitLines(text);
+  for (size_t i = 0; i < lines.size(); ++i) {
+    const std::vector<std::string_view> tokens = SplitWhitespace(lines[i]);
+    if (tokens.empty()) continue;
+    double xyz[3];
+    if (tokens.size() < 3 || !ParseDouble(tokens[0], &xyz[0]) || !ParseDouble(tokens[1], &xyz[1]) ||
+        !ParseDouble(tokens[2], &xyz[2]) || !std::isfinite(xyz[0]) || !std::isfinite(xyz[1]) ||
+        !std::isfinite(xyz[2])) {
+      return InvalidArgument(path + ": line " + std::to_string(i + 1) +
+                             ": expected 'x y z' (finite numbers), got '" +
+                             std::string(Trim(lines[i])) + "'");
+    }
+    points.emplace_back(static_cast<float>(xyz[0]), static_cast<float>(xyz[1]),
+                        static_cast<float>(xyz[2]));
+  }
+  if (points.empty()) return InvalidArgument(path + ": no points");
+  return points;
+}
+
+StatusOr<std::unique_ptr<Dataset>> OpenYcbvDataset(const std::string& root) {
+  try {
+    return OpenYcbv(root);
+  } catch (const std::exception& e) {
+    return Internal(root + ": cannot open YCB-Video dataset (" + e.what() + ")");
+  }
+}
+
+}  // namespace mcpose::io
