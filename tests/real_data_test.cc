@@ -108,14 +108,8 @@ TEST(RealData, GroundTruthPoseScoresInTopOnePercentOfRandomSamples) {
       auto mask = ds->LoadVisibleMask(key, gt);
       auto mesh = ds->LoadMesh(gt.obj_id);
       ASSERT_TRUE(mask.ok() && mesh.ok());
-      // Tight box of the visible mask.
-      int x0 = mask->width, y0 = mask->height, x1 = -1, y1 = -1;
-      for (int y = 0; y < mask->height; ++y)
-        for (int x = 0; x < mask->width; ++x)
-          if (mask->at(x, y)) x0 = std::min(x0, x), y0 = std::min(y0, y), x1 = std::max(x1, x), y1 = std::max(y1, y);
-      if (x1 < 0) continue;
-      Detection det{key.scene_id, key.image_id, gt.obj_id, 1.0, double(x0), double(y0),
-                    double(x1 - x0 + 1), double(y1 - y0 + 1)};
+      Detection det{key.scene_id, key.image_id, gt.obj_id, 1.0};
+      if (MaskBox(*mask, &det) == 0) continue;  // out of view
       std::vector<engine::BoxDepth> boxes;
       boxes.push_back(engine::DistributeDepth(
           frame->depth, frame->K, engine::ClipBox(det.x, det.y, det.w, det.h, 640, 480), 1.0, InlierMode::k1D));

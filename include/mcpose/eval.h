@@ -63,6 +63,10 @@ struct EvalReport {
 StatusOr<EvalReport> Evaluate(const Dataset& dataset, const std::vector<PoseResult>& results,
                               const std::vector<Detection>* detections, const EvalOptions& options);
 
+// Tight box of the nonzero pixels of a mask in the BOP box convention: pixels x .. x + w - 1,
+// y .. y + h - 1. Returns the number of nonzero pixels; for an empty mask (0) `box` is untouched.
+int MaskBox(const MaskImage& mask, Detection* box);
+
 // Options of detector-like boxes made from ground-truth visible masks.
 struct GtDetectionOptions {
   double jitter = 0.1;       // each side moved by up to jitter * box size (uniform)

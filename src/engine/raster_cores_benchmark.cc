@@ -11,6 +11,7 @@
 #include "engine/initialize.h"
 #include "engine/raster_cores.h"
 #include "mcpose/dataset.h"
+#include "mcpose/eval.h"
 
 namespace mcpose {
 namespace {
@@ -41,11 +42,8 @@ const Workload& GetWorkload(FrameKey key, int obj_id) {
   for (const GtInstance& gt : w->frame.gt) {
     if (gt.obj_id != obj_id) continue;
     const MaskImage mask = std::move((*ds)->LoadVisibleMask(key, gt)).value();
-    int x0 = 1 << 30, y0 = 1 << 30, x1 = -1, y1 = -1;
-    for (int y = 0; y < mask.height; ++y)
-      for (int x = 0; x < mask.width; ++x)
-        if (mask.at(x, y)) x0 = std::min(x0, x), y0 = std::min(y0, y), x1 = std::max(x1, x), y1 = std::max(y1, y);
-    w->det = Detection{key.scene_id, key.image_id, obj_id, 1.0, double(x0), double(y0), double(x1 - x0 + 1), double(y1 - y0 + 1)};
+    w->det = Detection{key.scene_id, key.image_id, obj_id, 1.0};
+    MaskBox(mask, &w->det);
   }
   w->boxes.push_back(engine::DistributeDepth(
       w->frame.depth, w->frame.K,

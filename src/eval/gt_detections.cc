@@ -55,19 +55,9 @@ struct Box {
 
 // Tight box of the nonzero pixels and their count (0 = empty mask, box undefined).
 int TightBox(const MaskImage& mask, Box* box) {
-  int count = 0;
-  int x_min = mask.width, y_min = mask.height, x_max = -1, y_max = -1;
-  for (int y = 0; y < mask.height; ++y) {
-    for (int x = 0; x < mask.width; ++x) {
-      if (!mask.at(x, y)) continue;
-      ++count;
-      x_min = std::min(x_min, x);
-      x_max = std::max(x_max, x);
-      y_min = std::min(y_min, y);
-      y_max = std::max(y_max, y);
-    }
-  }
-  if (count > 0) *box = Box{double(x_min), double(y_min), double(x_max + 1), double(y_max + 1)};
+  Detection d;
+  const int count = MaskBox(mask, &d);
+  if (count > 0) *box = Box{d.x, d.y, d.x + d.w, d.y + d.h};
   return count;
 }
 
@@ -106,6 +96,26 @@ Detection MakeDetection(const FrameKey& key, int obj_id, double score, double x,
 
 // Random draws per instance, in this order: left, top, right, bottom jitter; score; distractor
 // coin; then, for a distractor, its x, y and score.
+int MaskBox(const MaskImage& mask, Detection* box) {
+  int count = 0;
+  int x_min = mask.width, y_min = mask.height, x_max = -1, y_max = -1;
+  for (int y = 0; y < mask.height; ++y) {
+    for (int x = 0; x < mask.width; ++x) {
+      if (!mask.at(x, y)) continue;
+      ++count;
+      x_min = std::min(x_min, x);
+      x_max = std::max(x_max, x);
+      y_min = std::min(y_min, y);
+      y_max = std::max(y_max, y);
+    }
+  }
+  if (count > 0) {
+    box->x = x_min, box->y = y_min;
+    box->w = x_max - x_min + 1, box->h = y_max - y_min + 1;
+  }
+  return count;
+}
+
 StatusOr<std::vector<Detection>> DetectionsFromGroundTruth(const Dataset& dataset,
                                                            const GtDetectionOptions& options) {
   MCPOSE_RETURN_IF_ERROR(ValidateOptions(options));
