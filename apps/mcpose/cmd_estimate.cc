@@ -47,8 +47,10 @@ nlohmann::json ObjectJson(const ObjectRecord& r) {
       {"R", R},
       {"t_mm", t},
       {"time_s", r.time_s},
+      {"box_triangles", e.box_triangles},
       {"counters",
-       {{"triangles_in", c.triangles_in},
+       {{"triangles_full", c.triangles_full},
+        {"triangles_in", c.triangles_in},
         {"culled_backface", c.culled_backface},
         {"culled_degenerate", c.culled_degenerate},
         {"culled_outside_box", c.culled_outside_box},
@@ -75,7 +77,7 @@ Status RunEstimate(EstimateArgs& a) {
     return InvalidArgument("--inlier must be 1d or 3d, got '" + a.inlier + "'");
   }
   if (!ParseRasterBackend(a.engine, &o.backend))
-    return InvalidArgument("--engine must be scalar or fixed, got '" + a.engine + "'");
+    return InvalidArgument("--engine must be scalar, fixed or simd, got '" + a.engine + "'");
   if (!a.weights.empty()) {
     if (a.weights.size() != 3) return InvalidArgument("--weights takes three numbers a b c");
     o.weight_a = a.weights[0], o.weight_b = a.weights[1], o.weight_c = a.weights[2];
@@ -116,6 +118,7 @@ Status RunEstimate(EstimateArgs& a) {
                             {"eps_m", o.eps_m},
                             {"weights", {o.weight_a, o.weight_b, o.weight_c}},
                             {"engine", RasterBackendName(o.backend)},
+                            {"lod_px", o.lod_error_px},
                             {"threads", o.threads}}},
                           {"objects", objects}};
     MCPOSE_RETURN_IF_ERROR(WriteFileAtomically(a.out_json, doc.dump(1) + "\n"));
@@ -161,7 +164,8 @@ void AddEstimateCommand(CLI::App& app, Status* status) {
   cmd->add_option("--anneal", o.anneal, "Diffusion: sigma factor per iteration, (0, 1]")->capture_default_str();
   cmd->add_option("--init-sigma-t", o.init_sigma_t_m, "Initial translation jitter, metres")->capture_default_str();
   cmd->add_option("--init-depth-quantile", o.init_depth_quantile, "Quantile of the box's valid depths for the initial distance")->capture_default_str();
-  cmd->add_option("--engine", args->engine, "Raster core: scalar (float reference) or fixed (1/16-pixel fixed point)")->capture_default_str();
+  cmd->add_option("--engine", args->engine, "Raster core: scalar (float reference), fixed (1/16-pixel fixed point) or simd (fixed point, Highway rows)")->capture_default_str();
+  cmd->add_option("--lod-px", o.lod_error_px, "Level of detail: coarsest simplified mesh within this error in pixels at the box depth; 0 = full mesh")->capture_default_str();
   cmd->add_flag("--no-backface-culling", args->no_culling, "Rasterize back faces too");
   cmd->add_flag("-q,--quiet", args->quiet, "No progress output");
   cmd->callback([args, status] { *status = RunEstimate(*args); });

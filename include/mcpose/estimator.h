@@ -18,7 +18,8 @@ namespace mcpose {
 
 // Engine counters of one object's run, summed over iterations.
 struct EngineCounters {
-  int64_t triangles_in = 0;            // triangles submitted to the raster cores
+  int64_t triangles_full = 0;          // triangles of the full mesh, per sample render
+  int64_t triangles_in = 0;            // triangles submitted (after the LOD choice)
   int64_t culled_backface = 0;
   int64_t culled_degenerate = 0;
   int64_t culled_outside_box = 0;      // bounding box misses the sample's box
@@ -41,6 +42,12 @@ struct ObjectEstimate {
   int iterations = 0;             // iterations run (scored generations)
   int best_box = -1;              // index into the boxes passed in
   std::vector<double> mean_weight_history;  // one entry per iteration
+  std::vector<int> box_triangles;  // triangles of the mesh (LOD level) each box renders
+  // Wall time of each iteration: render + inlier counting (the raster cores), and the whole
+  // iteration (raster cores + weights + resampling + diffusion), milliseconds.
+  std::vector<double> score_ms, iteration_ms;
+  // Per iteration: fragments rasterized and observed-depth bytes the distributor read.
+  std::vector<int64_t> fragments_per_iteration, depth_bytes_per_iteration;
   EngineCounters counters;
 };
 

@@ -19,9 +19,11 @@ enum class RasterBackend {
   kScalar,      // the simple reference rasterizer (float edge functions), the test oracle
   kFixedPoint,  // integer sub-pixel (1/16 px) edge functions stepped incrementally; faster,
                 // inlier counts within 0.5% of kScalar (render/raster_fixed.h)
+  kSimd,        // kFixedPoint with its pixel rows walked N at a time by Highway (AVX-512,
+                // AVX2, SSE4 or scalar, chosen at run time); bit-identical to kFixedPoint
 };
 
-// "scalar" / "fixed"; returns false for an unknown name.
+// "scalar" / "fixed" / "simd"; returns false for an unknown name.
 bool ParseRasterBackend(const std::string& name, RasterBackend* backend);
 const char* RasterBackendName(RasterBackend backend);
 
@@ -61,6 +63,10 @@ struct EstimatorOptions {
 
   // --- Engine ---------------------------------------------------------------------------
   RasterBackend backend = RasterBackend::kScalar;
+  // Level of detail: each box renders the coarsest meshoptimizer simplification whose
+  // geometric error, projected at the box's initial depth, is at most lod_error_px pixels
+  // (render/lod.h). 0 = always the full mesh.
+  double lod_error_px = 0.0;
   int threads = 0;                 // raster cores (worker threads); 0 = hardware threads
 
   bool IsValid(std::string* error) const;

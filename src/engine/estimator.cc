@@ -1,7 +1,10 @@
 #include "mcpose/estimator.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <map>
+#include <mutex>
 #include <numeric>
 #include <string>
 
@@ -12,6 +15,7 @@
 #include "filter/diffuse.h"
 #include "filter/particles.h"
 #include "filter/resample.h"
+#include "render/lod.h"
 
 namespace mcpose {
 
@@ -25,7 +29,18 @@ constexpr uint64_t kStepStream = 0xD1FF05E;
 struct Estimator::Impl {
   EstimatorOptions options;
   engine::RasterCores cores;
+  // LOD chains of the meshes seen so far, by content fingerprint (built once per mesh).
+  std::mutex lod_mutex;
+  std::map<uint64_t, std::shared_ptr<const render::LodChain>> lod_cache;
   Impl(const EstimatorOptions& o) : options(o), cores(o.threads, o.backend) {}
+
+  std::shared_ptr<const render::LodChain> Lod(const Mesh& mesh) {
+    const uint64_t key = render::MeshFingerprint(mesh);
+    std::lock_guard<std::mutex> lock(lod_mutex);
+    auto& chain = lod_cache[key];
+    if (!chain) chain = std::make_shared<const render::LodChain>(render::LodChain::Build(mesh));
+    return chain;
+  }
 };
 
 Estimator::Estimator(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -88,9 +103,22 @@ StatusOr<ObjectEstimate> Estimator::Estimate(const Intrinsics& K, const DepthIma
   engine::InitializeSamples(K, mesh, boxes, box_depth, opt, stream_id, &particles[0]);
   particles[1].Resize(n);
 
+  // ---- Level of detail: per box, the coarsest mesh within the pixel error budget ----------
+  std::shared_ptr<const render::LodChain> lod;
+  std::vector<const Mesh*> box_mesh;
+  if (opt.lod_error_px > 0) {
+    lod = impl_->Lod(mesh);
+    for (size_t b = 0; b < boxes.size(); ++b)
+      box_mesh.push_back(&lod->level(engine::SelectLodLevel(*lod, K, mesh, boxes[b], box_depth[b], opt)).mesh);
+  } else {
+    box_mesh.assign(boxes.size(), &mesh);
+  }
+  for (const Mesh* m : box_mesh) result.box_triangles.push_back(static_cast<int>(m->triangles.size()));
+
   // ---- Iterate: score, keep the best, stop or resample + diffuse -------------------------
   engine::ScoreJob job;
   job.mesh = &mesh;
+  job.box_mesh = box_mesh;
   job.K = K;
   job.boxes = box_depth;
   job.inlier_mode = opt.inlier_mode;
@@ -101,12 +129,20 @@ StatusOr<ObjectEstimate> Estimator::Estimate(const Intrinsics& K, const DepthIma
   filter::CdfSampler sampler;
   int cur = 0;
   result.best_weight = -1;
+  using Clock = std::chrono::steady_clock;
+  auto ms_since = [](Clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  };
   for (int iter = 0; iter < opt.max_iterations; ++iter) {
     filter::ParticleSet& p = particles[cur];
+    const Clock::time_point iter_start = Clock::now();
 
     // Raster cores: render + inlier counts for every sample.
     render::RasterStats stats;
     cores.Score(job, p, counts, &stats);
+    result.score_ms.push_back(ms_since(iter_start));
+    result.fragments_per_iteration.push_back(stats.fragments);
+    counters.triangles_full += static_cast<int64_t>(mesh.triangles.size()) * n;
     counters.triangles_in += stats.triangles;
     counters.culled_backface += stats.culled_backface;
     counters.culled_degenerate += stats.culled_degenerate;
@@ -125,7 +161,9 @@ StatusOr<ObjectEstimate> Estimator::Estimate(const Intrinsics& K, const DepthIma
     std::vector<render::PixelRect> used_rects;
     for (size_t b = 0; b < boxes.size(); ++b)
       if (box_used[b]) used_rects.push_back(box_depth[b].rect);
-    counters.depth_bytes_read += engine::UnionArea(used_rects) * int64_t{sizeof(float)};
+    const int64_t depth_bytes = engine::UnionArea(used_rects) * int64_t{sizeof(float)};
+    counters.depth_bytes_read += depth_bytes;
+    result.depth_bytes_per_iteration.push_back(depth_bytes);
 
     // Weights, the best sample ever seen (ties: lowest index), the mean.
     double sum = 0;
@@ -143,7 +181,10 @@ StatusOr<ObjectEstimate> Estimator::Estimate(const Intrinsics& K, const DepthIma
     result.mean_weight_history.push_back(mean);
     result.final_mean_weight = mean;
     result.iterations = iter + 1;
-    if (mean > opt.tau || iter + 1 == opt.max_iterations) break;
+    if (mean > opt.tau || iter + 1 == opt.max_iterations) {
+      result.iteration_ms.push_back(ms_since(iter_start));
+      break;
+    }
 
     // Resample from the sorted CDF and diffuse into the other buffer.
     sampler.Build(p.weight, opt.keep_top_fraction, opt.cdf_table_size);
@@ -164,6 +205,7 @@ StatusOr<ObjectEstimate> Estimator::Estimate(const Intrinsics& K, const DepthIma
     counters.cdf_reads += reads;
     counters.cdf_reads_naive += reads_naive;
     cur = 1 - cur;
+    result.iteration_ms.push_back(ms_since(iter_start));
   }
   return result;
 }

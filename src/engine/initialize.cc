@@ -28,6 +28,24 @@ double DepthQuantile(const std::vector<float>& observed, double q) {
 
 }  // namespace
 
+double InitialDepth(const Intrinsics& K, const Mesh& mesh, const Detection& d, const BoxDepth& box,
+                    double depth_quantile) {
+  const Eigen::Vector3f size = mesh.BoundsMax() - mesh.BoundsMin();
+  std::array<float, 3> sides = {size.x(), size.y(), size.z()};
+  std::sort(sides.begin(), sides.end());
+  const double z = DepthQuantile(box.observed, depth_quantile);
+  if (z > 0) return z + 0.5 * sides[1];
+  return std::max(K.fx, K.fy) * size.norm() / std::max(1.0, std::hypot(d.w, d.h));
+}
+
+int SelectLodLevel(const render::LodChain& lod, const Intrinsics& K, const Mesh& mesh, const Detection& d,
+                   const BoxDepth& box, const EstimatorOptions& options) {
+  if (!(options.lod_error_px > 0)) return 0;
+  const double z = InitialDepth(K, mesh, d, box, options.init_depth_quantile);
+  return lod.Select(render::LodErrorBudgetM(static_cast<float>(options.lod_error_px), static_cast<float>(z),
+                                            static_cast<float>(std::min(K.fx, K.fy))));
+}
+
 void InitializeSamples(const Intrinsics& K, const Mesh& mesh, std::span<const Detection> boxes,
                        std::span<const BoxDepth> box_depth, const EstimatorOptions& options,
                        uint64_t stream_id, filter::ParticleSet* particles) {
@@ -37,23 +55,12 @@ void InitializeSamples(const Intrinsics& K, const Mesh& mesh, std::span<const De
   for (const Detection& d : boxes) scores.push_back(std::max(d.score, 1e-6));
   const std::vector<int> per_box = filter::AllocateSamples(scores, n);
 
-  const Eigen::Vector3f size = mesh.BoundsMax() - mesh.BoundsMin();
-  std::array<float, 3> sides = {size.x(), size.y(), size.z()};
-  std::sort(sides.begin(), sides.end());
-  const double half_extent = 0.5 * sides[1];
-  const double diameter = size.norm();
-
   filter::ParticleSet& p = *particles;
   p.Resize(n);
   int i = 0;
   for (size_t b = 0; b < boxes.size(); ++b) {
     const Detection& d = boxes[b];
-    double z = DepthQuantile(box_depth[b].observed, options.init_depth_quantile);
-    if (z > 0) {
-      z += half_extent;
-    } else {
-      z = std::max(K.fx, K.fy) * diameter / std::max(1.0, std::hypot(d.w, d.h));
-    }
+    const double z = InitialDepth(K, mesh, d, box_depth[b], options.init_depth_quantile);
     const double uc = d.x + 0.5 * d.w, vc = d.y + 0.5 * d.h;
     const Eigen::Vector3d ray((uc - K.cx) / K.fx, (vc - K.cy) / K.fy, 1.0);
     for (int k = 0; k < per_box[b]; ++k, ++i) {

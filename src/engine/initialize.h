@@ -13,8 +13,20 @@
 #include "mcpose/detection.h"
 #include "mcpose/mesh.h"
 #include "mcpose/options.h"
+#include "render/lod.h"
 
 namespace mcpose::engine {
+
+// The initial depth of the samples of box `d`: the `depth_quantile` of its valid observed
+// depths plus half the object's median side, or, without valid depth, the distance at which
+// the object's diameter would fill the box diagonal.
+double InitialDepth(const Intrinsics& K, const Mesh& mesh, const Detection& d, const BoxDepth& box,
+                    double depth_quantile);
+
+// The LOD level box `d` renders: the coarsest level of `lod` whose error is at most
+// options.lod_error_px pixels at the box's initial depth (0 when LOD is off).
+int SelectLodLevel(const render::LodChain& lod, const Intrinsics& K, const Mesh& mesh, const Detection& d,
+                   const BoxDepth& box, const EstimatorOptions& options);
 
 void InitializeSamples(const Intrinsics& K, const Mesh& mesh, std::span<const Detection> boxes,
                        std::span<const BoxDepth> box_depth, const EstimatorOptions& options,

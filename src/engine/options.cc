@@ -38,6 +38,8 @@ bool EstimatorOptions::IsValid(std::string* error) const {
   for (double s : {sigma_t_m, sigma_r_rad, sigma_t_min_m, sigma_r_min_rad})
     if (!(std::isfinite(s) && s >= 0)) return Fail(error, "diffusion sigmas must be finite and >= 0");
   if (!(anneal > 0 && anneal <= 1)) return Fail(error, "anneal must lie in (0, 1]");
+  if (!(std::isfinite(lod_error_px) && lod_error_px >= 0))
+    return Fail(error, "lod_error_px must be finite and >= 0 (0 = full mesh)");
   if (threads < 0) return Fail(error, "threads must be >= 0 (0 = all hardware threads)");
   return true;
 }
@@ -47,6 +49,8 @@ bool ParseRasterBackend(const std::string& name, RasterBackend* backend) {
     *backend = RasterBackend::kScalar;
   } else if (name == "fixed") {
     *backend = RasterBackend::kFixedPoint;
+  } else if (name == "simd") {
+    *backend = RasterBackend::kSimd;
   } else {
     return false;
   }
@@ -57,6 +61,7 @@ const char* RasterBackendName(RasterBackend backend) {
   switch (backend) {
     case RasterBackend::kScalar: return "scalar";
     case RasterBackend::kFixedPoint: return "fixed";
+    case RasterBackend::kSimd: return "simd";
   }
   return "unknown";
 }

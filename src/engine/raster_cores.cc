@@ -56,15 +56,19 @@ RasterCores::~RasterCores() = default;
 void RasterCores::Score(const ScoreJob& job, const filter::ParticleSet& particles,
                         std::span<score::InlierCounts> counts, render::RasterStats* stats) {
   MCPOSE_CHECK_EQ(counts.size(), particles.size());
-  const auto& mesh = *job.mesh;
+  MCPOSE_CHECK(job.box_mesh.empty() || job.box_mesh.size() == job.boxes.size());
+  size_t max_vertices = job.mesh->vertices_m.size();
+  for (const Mesh* m : job.box_mesh) max_vertices = std::max(max_vertices, m->vertices_m.size());
   for (auto& s : scratch_) {
-    s.vertices.resize(mesh.vertices_m.size());
+    s.vertices.resize(max_vertices);
     s.stats = render::RasterStats{};
   }
   pool_.ParallelFor(static_cast<int64_t>(particles.size()), [&](int64_t begin, int64_t end, int worker) {
     Scratch& s = scratch_[worker];
     for (int64_t i = begin; i < end; ++i) {
       const BoxDepth& box = job.boxes[particles.box[i]];
+      const Mesh& mesh = job.box_mesh.empty() ? *job.mesh : *job.box_mesh[particles.box[i]];
+      const std::span<render::ScreenVertex> vertices(s.vertices.data(), mesh.vertices_m.size());
       render::RasterParams params;
       params.fx = static_cast<float>(job.K.fx);
       params.fy = static_cast<float>(job.K.fy);
@@ -73,25 +77,43 @@ void RasterCores::Score(const ScoreJob& job, const filter::ParticleSet& particle
       params.box = box.rect;
       params.cull_backfaces = job.cull_backfaces;
 
-      // Render the hypothesis into the box z-buffer.
-      s.zbuf.assign(static_cast<size_t>(box.rect.area()), INFINITY);
+      // Project, then clear the z-buffer only where the mesh can land (the 3-D test reads the
+      // whole box), render, and count inliers in that rect: the same counts as the whole box.
       const Eigen::Matrix3f R = particles.R_cam_obj[i].cast<float>();
       const Eigen::Vector3f t = particles.t_cam_obj_m[i].cast<float>();
+      render::ProjectVertices(mesh.vertices_m, R, t, params, vertices);
+      const int stride = box.rect.width();
+      s.zbuf.resize(std::max(s.zbuf.size(), static_cast<size_t>(box.rect.area()) + render::kSimdPadFloats));
+      render::PixelRect cover = render::CoverBound(vertices, box.rect);
+      if (job.inlier_mode == InlierMode::k3D) cover = box.rect;
+      // Box-relative cover rect.
+      const render::PixelRect rel =
+          cover.empty() ? render::PixelRect{}
+                        : render::PixelRect{cover.x0 - box.rect.x0, cover.y0 - box.rect.y0,
+                                            cover.x1 - box.rect.x0, cover.y1 - box.rect.y0};
+      for (int y = rel.y0; y < rel.y1; ++y)
+        std::fill_n(s.zbuf.data() + static_cast<size_t>(y) * stride + rel.x0, rel.width(), INFINITY);
       switch (backend_) {
         case RasterBackend::kScalar:
-          render::ProjectVertices(mesh.vertices_m, R, t, params, s.vertices);
-          render::RasterizeDepthReference(s.vertices, mesh.triangles, params, s.zbuf.data(), &s.stats);
+          render::RasterizeDepthReference(vertices, mesh.triangles, params, s.zbuf.data(), &s.stats);
           break;
         case RasterBackend::kFixedPoint:
-          render::ProjectVertices(mesh.vertices_m, R, t, params, s.vertices);
-          render::RasterizeDepthFixedPoint(s.vertices, mesh.triangles, params, s.zbuf.data(), &s.stats);
+          render::RasterizeDepthFixedPoint(vertices, mesh.triangles, params, s.zbuf.data(), &s.stats);
+          break;
+        case RasterBackend::kSimd:
+          render::RasterizeDepthFixedPoint(vertices, mesh.triangles, params, s.zbuf.data(), &s.stats,
+                                           render::RowKernel::kSimd);
           break;
       }
 
       // Compare with the observed depth of the box.
-      counts[i] = job.inlier_mode == InlierMode::k1D
-                      ? score::CountInliers1D(s.zbuf, box.observed, job.eps_m)
-                      : box.cloud->CountInliers3D(s.zbuf, job.eps_m);
+      if (job.inlier_mode == InlierMode::k1D) {
+        counts[i] = score::CountInliers1DInRect(s.zbuf.data(), box.observed.data(), stride, rel,
+                                                box.n_observed, job.eps_m);
+      } else {
+        counts[i] = box.cloud->CountInliers3D(
+            std::span<const float>(s.zbuf.data(), static_cast<size_t>(box.rect.area())), job.eps_m);
+      }
     }
   }, /*chunks_per_thread=*/16);
   if (stats)

@@ -40,7 +40,8 @@ BoxDepth DistributeDepth(const DepthImage& depth, const Intrinsics& K, const ren
 int64_t UnionArea(std::span<const render::PixelRect> rects);
 
 struct ScoreJob {
-  const Mesh* mesh = nullptr;
+  const Mesh* mesh = nullptr;            // the full mesh
+  std::span<const Mesh* const> box_mesh; // optional: the mesh (LOD level) each box renders
   Intrinsics K;
   std::span<const BoxDepth> boxes;
   InlierMode inlier_mode = InlierMode::k1D;

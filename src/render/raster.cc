@@ -29,6 +29,27 @@ void ProjectVertices(std::span<const Eigen::Vector3f> vertices_m, const Eigen::M
   }
 }
 
+PixelRect CoverBound(std::span<const ScreenVertex> vertices, const PixelRect& box) {
+  float min_u = INFINITY, max_u = -INFINITY, min_v = INFINITY, max_v = -INFINITY;
+  bool finite = true;
+  for (const ScreenVertex& p : vertices) {
+    finite = finite && std::isfinite(p.u) && std::isfinite(p.v);
+    min_u = std::min(min_u, p.u), max_u = std::max(max_u, p.u);
+    min_v = std::min(min_v, p.v), max_v = std::max(max_v, p.v);
+  }
+  if (!finite) return box;
+  if (vertices.empty() || max_u < box.x0 || min_u > box.x1 - 1 || max_v < box.y0 || min_v > box.y1 - 1)
+    return PixelRect{};
+  PixelRect r;
+  // Rounded outwards by one pixel: vertices snapped to a sub-pixel grid stay inside.
+  r.x0 = std::max(box.x0, static_cast<int>(std::floor(min_u)) - 1);
+  r.x1 = std::min(box.x1 - 1, static_cast<int>(std::ceil(max_u)) + 1) + 1;
+  r.y0 = std::max(box.y0, static_cast<int>(std::floor(min_v)) - 1);
+  r.y1 = std::min(box.y1 - 1, static_cast<int>(std::ceil(max_v)) + 1) + 1;
+  if (r.empty()) return PixelRect{};
+  return r;
+}
+
 namespace {
 
 // Edge function of the directed edge a -> b at point p: positive on the left in a y-down image

@@ -59,6 +59,12 @@ void ProjectVertices(std::span<const Eigen::Vector3f> vertices_m, const Eigen::M
                      const Eigen::Vector3f& t, const RasterParams& params,
                      std::span<ScreenVertex> out);
 
+// The pixels of `box` that triangles over these vertices can cover: the vertices' bounding
+// box grown by a pixel on each side (so sub-pixel snapping stays inside), clipped to `box`
+// (empty if none). The whole box when a
+// coordinate is not finite. Every rasterizer here writes only inside this rect.
+PixelRect CoverBound(std::span<const ScreenVertex> vertices, const PixelRect& box);
+
 // Renders the triangles into `zbuf` (params.box sized, row-major, row stride box.width()),
 // keeping the nearest depth. The caller fills zbuf with +infinity first; pixels no triangle
 // covers keep it. Adds to *stats.

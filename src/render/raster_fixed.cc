@@ -13,9 +13,33 @@ constexpr int32_t kMaxSpanPx = 2048;             // bigger triangles: float path
 
 }  // namespace
 
+int64_t FillTriangleScalar(const FixedTriangle& t, float* zbuf, int stride) {
+  int64_t covered = 0;
+  int64_t w_row[3] = {t.w_row[0], t.w_row[1], t.w_row[2]};
+  for (int32_t y = t.y_lo; y <= t.y_hi; ++y) {
+    int64_t w0 = w_row[0], w1 = w_row[1], w2 = w_row[2];
+    float* row = zbuf + static_cast<size_t>(y) * stride;
+    const float row_c = t.B * static_cast<float>(y) + t.C;
+    for (int32_t x = t.x_lo; x <= t.x_hi; ++x) {
+      if ((w0 | w1 | w2) >= 0) {
+        ++covered;
+        const float z = 1.0f / (t.A * static_cast<float>(x) + row_c);
+        if (z < row[x]) row[x] = z;
+      }
+      w0 += t.step_x[0], w1 += t.step_x[1], w2 += t.step_x[2];
+    }
+    w_row[0] += t.step_y[0], w_row[1] += t.step_y[1], w_row[2] += t.step_y[2];
+  }
+  return covered;
+}
+
+namespace {
+
+}  // namespace
+
 void RasterizeDepthFixedPoint(std::span<const ScreenVertex> vertices,
                               std::span<const std::array<uint32_t, 3>> triangles,
-                              const RasterParams& params, float* zbuf, RasterStats* stats) {
+                              const RasterParams& params, float* zbuf, RasterStats* stats, RowKernel rows) {
   const PixelRect& box = params.box;
   const int stride = box.width();
   // Fixed-point coordinates are taken relative to the box origin to keep them small.
@@ -92,18 +116,19 @@ void RasterizeDepthFixedPoint(std::span<const ScreenVertex> vertices,
     // Edge functions of the reversed edges (positive inside), opposite vertices a, b, c:
     // E(p) = (P1.x - P0.x) * (p.y - P0.y) - (P1.y - P0.y) * (p.x - P0.x) for edge P0 -> P1.
     // Stepping one pixel in x adds -(P1.y - P0.y) * kOne, in y adds (P1.x - P0.x) * kOne.
+    FixedTriangle ft;
+    ft.x_lo = x_lo, ft.x_hi = x_hi, ft.y_lo = y_lo, ft.y_hi = y_hi;
     const int e0[3] = {ic, ia, ib};  // edge start: c->b (opp. a), a->c (opp. b), b->a (opp. c)
     const int e1[3] = {ib, ic, ia};
-    int64_t w_row[3], step_x[3], step_y[3];
     const int64_t px0 = int64_t{x_lo} * kOne, py0 = int64_t{y_lo} * kOne;
     for (int k = 0; k < 3; ++k) {
       const int64_t dx = X[e1[k]] - X[e0[k]], dy = Y[e1[k]] - Y[e0[k]];
       // Top-left rule (same predicate as the reference): pixels exactly on a non-owning
       // edge are excluded by a bias of -1.
       const bool top_left = (dy == 0 && dx < 0) || dy > 0;
-      w_row[k] = dx * (py0 - Y[e0[k]]) - dy * (px0 - X[e0[k]]) - (top_left ? 0 : 1);
-      step_x[k] = -dy * kOne;
-      step_y[k] = dx * kOne;
+      ft.w_row[k] = dx * (py0 - Y[e0[k]]) - dy * (px0 - X[e0[k]]) - (top_left ? 0 : 1);
+      ft.step_x[k] = -dy * kOne;
+      ft.step_y[k] = dx * kOne;
     }
 
     // 1/z as a plane over pixel coordinates: inv_z = A x + B y + C (box-relative pixels).
@@ -119,24 +144,12 @@ void RasterizeDepthFixedPoint(std::span<const ScreenVertex> vertices,
       B += dx * kOne * wk;
       C += (dx * (-double(Y[e0[k]])) - dy * (-double(X[e0[k]]))) * wk;
     }
-    const float fA = static_cast<float>(A), fB = static_cast<float>(B), fC = static_cast<float>(C);
+    ft.A = static_cast<float>(A), ft.B = static_cast<float>(B), ft.C = static_cast<float>(C);
 
-    // Walk the bounding box with incremental integer edge functions.
-    int64_t covered = 0;
-    for (int32_t y = y_lo; y <= y_hi; ++y) {
-      int64_t w0 = w_row[0], w1 = w_row[1], w2 = w_row[2];
-      float* row = zbuf + static_cast<size_t>(y) * stride;
-      const float row_c = fB * static_cast<float>(y) + fC;
-      for (int32_t x = x_lo; x <= x_hi; ++x) {
-        if ((w0 | w1 | w2) >= 0) {
-          ++covered;
-          const float z = 1.0f / (fA * static_cast<float>(x) + row_c);
-          if (z < row[x]) row[x] = z;
-        }
-        w0 += step_x[0], w1 += step_x[1], w2 += step_x[2];
-      }
-      w_row[0] += step_y[0], w_row[1] += step_y[1], w_row[2] += step_y[2];
-    }
+    // Walk the bounding box: 8+ pixels at a time where the edge functions fit in 32 bits.
+    const bool simd_fits = max_x - min_x <= kMaxSimdSpanPx * kOne && max_y - min_y <= kMaxSimdSpanPx * kOne;
+    const int64_t covered = rows == RowKernel::kSimd && simd_fits ? FillTriangleSimd(ft, zbuf, stride)
+                                                                  : FillTriangleScalar(ft, zbuf, stride);
     if (covered == 0) {
       ++s.culled_between_pixels;
     } else {

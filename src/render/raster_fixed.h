@@ -12,15 +12,49 @@
 #include <array>
 #include <cstdint>
 #include <span>
+#include <string>
 
 #include "render/raster.h"
 
 namespace mcpose::render {
 
 inline constexpr int kSubpixelBits = 4;
+// Triangles whose bounding box spans at most this many pixels per side have edge functions
+// that fit in 32 bits (|E| < 2^30), so the SIMD row kernel can take them.
+inline constexpr int32_t kMaxSimdSpanPx = 1024;
+// Slack (floats) the SIMD kernel needs after the last z-buffer pixel: the widest vector.
+inline constexpr size_t kSimdPadFloats = 64;
+
+// One triangle after fixed-point setup, in box-relative pixels: the pixel range to walk,
+// the edge functions (positive inside, top-left bias applied) at (x_lo, y_lo) and their steps
+// per pixel, and the 1/z plane inv_z = A x + B y + C.
+struct FixedTriangle {
+  int32_t x_lo = 0, x_hi = -1, y_lo = 0, y_hi = -1;  // inclusive
+  int64_t w_row[3] = {0, 0, 0}, step_x[3] = {0, 0, 0}, step_y[3] = {0, 0, 0};
+  float A = 0, B = 0, C = 0;
+};
+
+// Walks the triangle's pixels, keeping the nearest depth 1 / (A x + (B y + C)) of covered
+// pixels in zbuf (row stride `stride`). Returns the covered pixel count.
+//   FillTriangleScalar: one pixel at a time, 64-bit edge functions (the reference).
+//   FillTriangleSimd:   Highway, runtime-dispatched (AVX-512/AVX2/SSE4/scalar), 32-bit edge
+//                       functions; requires a span of at most kMaxSimdSpanPx and
+//                       kSimdPadFloats of readable, writable slack after the z-buffer (whole
+//                       vectors are loaded and stored back; pixels past a row's end are
+//                       written back unchanged). Bit-identical to FillTriangleScalar (same
+//                       integer coverage, same float operations, no FMA contraction).
+int64_t FillTriangleScalar(const FixedTriangle& t, float* zbuf, int stride);
+int64_t FillTriangleSimd(const FixedTriangle& t, float* zbuf, int stride);
+
+enum class RowKernel { kScalar, kSimd };
 
 void RasterizeDepthFixedPoint(std::span<const ScreenVertex> vertices,
                               std::span<const std::array<uint32_t, 3>> triangles,
-                              const RasterParams& params, float* zbuf, RasterStats* stats);
+                              const RasterParams& params, float* zbuf, RasterStats* stats,
+                              RowKernel rows = RowKernel::kScalar);
+// With RowKernel::kSimd, zbuf must have kSimdPadFloats of slack after the box.
+
+// The Highway targets compiled in and supported by this CPU, e.g. "AVX2 SSE4 EMU128".
+std::string SimdTargetsAvailable();
 
 }  // namespace mcpose::render

@@ -2,6 +2,8 @@
 #include "render/raster_fixed.h"
 
 #include <cmath>
+#include <cstdio>
+#include <cstring>
 #include <random>
 #include <vector>
 
@@ -212,6 +214,93 @@ TEST(RasterFixed, HugeAndOffscreenTrianglesFallBackToFloatPath) {
   EXPECT_EQ(z_ref, z_fix);
   EXPECT_EQ(a.fragments, b.fragments);
   EXPECT_EQ(b.triangles, 1);
+}
+
+}  // namespace
+}  // namespace mcpose::render
+
+namespace mcpose::render {
+namespace {
+
+// Both rasterizers write only inside CoverBound: a z-buffer pre-filled with a sentinel keeps
+// it everywhere outside the rect.
+TEST(Raster, CoverBoundHoldsEveryWrittenPixel) {
+  std::mt19937_64 gen(41);
+  for (int trial = 0; trial < 40; ++trial) {
+    // A few triangles, so the bound is often much smaller than the box.
+    const Scene s = RandomScene(gen, 1 + trial % 4);
+    RasterParams p = Params(trial % 2 == 0);
+    std::vector<ScreenVertex> sv(s.vertices.size());
+    ProjectVertices(s.vertices, Eigen::Matrix3f::Identity(), Eigen::Vector3f::Zero(), p, sv);
+    const PixelRect r = CoverBound(sv, p.box);
+    for (int fixed = 0; fixed < 2; ++fixed) {
+      std::vector<float> z(p.box.area(), -1.f);
+      if (fixed) {
+        RasterizeDepthFixedPoint(sv, s.triangles, p, z.data(), nullptr);
+      } else {
+        // The reference compares with what is there; +inf inside the rect lets it write.
+        for (int y = r.y0; y < r.y1; ++y)
+          for (int x = r.x0; x < r.x1; ++x) z[(y - p.box.y0) * p.box.width() + (x - p.box.x0)] = INFINITY;
+        RasterizeDepthReference(sv, s.triangles, p, z.data(), nullptr);
+      }
+      for (int y = p.box.y0; y < p.box.y1; ++y)
+        for (int x = p.box.x0; x < p.box.x1; ++x) {
+          const bool inside = x >= r.x0 && x < r.x1 && y >= r.y0 && y < r.y1;
+          if (!inside) { ASSERT_EQ(z[(y - p.box.y0) * p.box.width() + (x - p.box.x0)], -1.f) << x << "," << y; }
+        }
+    }
+  }
+  // No vertices, or all far outside: empty.
+  EXPECT_TRUE(CoverBound({}, Params(true).box).empty());
+  const ScreenVertex far[3] = {{-500, -500, 1}, {-400, -500, 1}, {-500, -400, 1}};
+  EXPECT_TRUE(CoverBound(far, Params(true).box).empty());
+  const ScreenVertex nan[1] = {{NAN, 0, 1}};
+  EXPECT_EQ(CoverBound(nan, Params(true).box).area(), Params(true).box.area());
+}
+
+}  // namespace
+}  // namespace mcpose::render
+
+#include <hwy/targets.h>
+
+namespace mcpose::render {
+namespace {
+
+// The Highway row kernel against the scalar one on every compiled target this CPU supports:
+// bit-identical z-buffers and statistics on random triangles, small and large.
+TEST(RasterSimd, BitIdenticalToScalarRowsOnEveryTarget) {
+  const std::vector<int64_t> targets = hwy::SupportedAndGeneratedTargets();
+  ASSERT_FALSE(targets.empty());
+  std::printf("  targets: %s\n", SimdTargetsAvailable().c_str());
+  for (int64_t target : targets) {
+    hwy::SetSupportedTargetsForTest(target);
+    std::mt19937_64 gen(51);
+    for (int trial = 0; trial < 30; ++trial) {
+      Scene s = RandomScene(gen, 60);
+      if (trial % 5 == 0) {  // one large triangle (hundreds of pixels) among the small ones
+        s.vertices.push_back({-0.2f, -0.15f, 0.9f});
+        s.vertices.push_back({-0.1f, 0.18f, 1.0f});
+        s.vertices.push_back({0.25f, 0.0f, 0.8f});
+        const uint32_t n = static_cast<uint32_t>(s.vertices.size());
+        s.triangles.push_back({n - 3, n - 2, n - 1});
+        s.triangles.push_back({n - 3, n - 1, n - 2});
+      }
+      const RasterParams p = Params(trial % 2 == 0);
+      std::vector<ScreenVertex> sv(s.vertices.size());
+      ProjectVertices(s.vertices, Eigen::Matrix3f::Identity(), Eigen::Vector3f::Zero(), p, sv);
+      std::vector<float> z_scalar(p.box.area(), INFINITY), z_simd(p.box.area() + kSimdPadFloats, INFINITY);
+      RasterStats st_scalar, st_simd;
+      RasterizeDepthFixedPoint(sv, s.triangles, p, z_scalar.data(), &st_scalar, RowKernel::kScalar);
+      RasterizeDepthFixedPoint(sv, s.triangles, p, z_simd.data(), &st_simd, RowKernel::kSimd);
+      EXPECT_EQ(st_simd.fragments, st_scalar.fragments) << hwy::TargetName(target);
+      EXPECT_EQ(st_simd.rasterized, st_scalar.rasterized) << hwy::TargetName(target);
+      EXPECT_EQ(st_simd.culled_between_pixels, st_scalar.culled_between_pixels);
+      ASSERT_EQ(0, std::memcmp(z_scalar.data(), z_simd.data(), z_scalar.size() * sizeof(float)))
+          << hwy::TargetName(target) << " trial " << trial;
+      for (size_t i = z_scalar.size(); i < z_simd.size(); ++i) ASSERT_EQ(z_simd[i], INFINITY) << "slack changed";
+    }
+  }
+  hwy::SetSupportedTargetsForTest(0);
 }
 
 }  // namespace

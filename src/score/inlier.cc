@@ -26,6 +26,25 @@ InlierCounts CountInliers1D(std::span<const float> rendered, std::span<const flo
   return c;
 }
 
+InlierCounts CountInliers1DInRect(const float* rendered, const float* observed, int stride,
+                                  const render::PixelRect& rect, int32_t n_observed, float eps_m) {
+  InlierCounts c;
+  c.observed = n_observed;
+  for (int y = rect.y0; y < rect.y1; ++y) {
+    const float* zr = rendered + static_cast<size_t>(y) * stride;
+    const float* zo = observed + static_cast<size_t>(y) * stride;
+    int32_t drawn = 0, inliers = 0;  // per row: lets the compiler vectorize the inner loop
+    for (int x = rect.x0; x < rect.x1; ++x) {
+      const bool d = zr[x] != INFINITY;
+      drawn += d;
+      inliers += d & (zo[x] > 0.f) & (std::fabs(zr[x] - zo[x]) < eps_m);
+    }
+    c.rendered += drawn;
+    c.inliers += inliers;
+  }
+  return c;
+}
+
 struct ObservedCloud::Impl {
   // nanoflann dataset adaptor over a flat xyz array.
   struct Points {

@@ -28,6 +28,12 @@ int32_t CountObserved(std::span<const float> observed);
 InlierCounts CountInliers1D(std::span<const float> rendered, std::span<const float> observed,
                             float eps_m);
 
+// The same counts as CountInliers1D over a whole box, reading only the sub-rectangle `rect`
+// of it (box-relative pixels, row stride `stride`) outside which nothing was rendered, with
+// N_b given (it does not depend on the hypothesis). `rendered` outside `rect` is not read.
+InlierCounts CountInliers1DInRect(const float* rendered, const float* observed, int stride,
+                                  const render::PixelRect& rect, int32_t n_observed, float eps_m);
+
 // w = a * N / N_b + b * N / N_r + c * score; a term with a zero denominator is 0.
 inline double Weight(const InlierCounts& n, double score, double a, double b, double c) {
   const double recall = n.observed > 0 ? static_cast<double>(n.inliers) / n.observed : 0.0;

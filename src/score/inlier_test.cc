@@ -42,6 +42,26 @@ TEST(Inlier, OneDimensionalCountsMatchNaiveLoop) {
   }
 }
 
+TEST(Inlier, RectCountsMatchWholeBoxWhenNothingIsRenderedOutside) {
+  std::mt19937_64 gen(7);
+  for (int trial = 0; trial < 50; ++trial) {
+    Buffers b = RandomBuffers(gen);
+    const int w = b.box.width(), h = b.box.height();
+    std::uniform_int_distribution<int> ux(0, w), uy(0, h);
+    int x0 = ux(gen), x1 = ux(gen), y0 = uy(gen), y1 = uy(gen);
+    if (x0 > x1) std::swap(x0, x1);
+    if (y0 > y1) std::swap(y0, y1);
+    const render::PixelRect rect{x0, y0, x1, y1};
+    // Outside the rect: nothing rendered in the whole-box buffer, garbage in the fast one.
+    std::vector<float> whole = b.rendered, garbage = b.rendered;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        if (x < x0 || x >= x1 || y < y0 || y >= y1) whole[y * w + x] = INFINITY, garbage[y * w + x] = 0.7f;
+    EXPECT_EQ(CountInliers1DInRect(garbage.data(), b.observed.data(), w, rect, CountObserved(b.observed), 0.01f),
+              CountInliers1D(whole, b.observed, 0.01f));
+  }
+}
+
 TEST(Inlier, ThreeDimensionalCountsMatchBruteForce) {
   std::mt19937_64 gen(6);
   Intrinsics K{1066.778, 1067.487, 312.9869, 241.3109, 640, 480};

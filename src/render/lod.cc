@@ -1,0 +1,94 @@
+#include "render/lod.h"
+
+#include <algorithm>
+#include <cstring>
+
+#include <meshoptimizer.h>
+
+#include "core/check.h"
+
+namespace mcpose::render {
+
+namespace {
+
+// Keeps the used vertices of `indices` (in first-use order) and rewrites the indices.
+Mesh Compact(const Mesh& full, const std::vector<uint32_t>& indices) {
+  std::vector<uint32_t> remap(full.vertices_m.size(), UINT32_MAX);
+  Mesh out;
+  out.triangles.resize(indices.size() / 3);
+  for (size_t i = 0; i < indices.size(); ++i) {
+    uint32_t& r = remap[indices[i]];
+    if (r == UINT32_MAX) {
+      r = static_cast<uint32_t>(out.vertices_m.size());
+      out.vertices_m.push_back(full.vertices_m[indices[i]]);
+    }
+    out.triangles[i / 3][i % 3] = r;
+  }
+  return out;
+}
+
+}  // namespace
+
+LodChain LodChain::Build(const Mesh& mesh) {
+  LodChain chain;
+  chain.levels_.push_back(LodLevel{mesh, 0.f});
+  if (mesh.triangles.size() <= kMinTriangles) return chain;
+
+  std::vector<uint32_t> indices(mesh.triangles.size() * 3);
+  std::memcpy(indices.data(), mesh.triangles.data(), indices.size() * sizeof(uint32_t));
+  static_assert(sizeof(std::array<uint32_t, 3>) == 3 * sizeof(uint32_t));
+  const float* positions = mesh.vertices_m.front().data();
+  const size_t stride = sizeof(Eigen::Vector3f);
+  static_assert(sizeof(Eigen::Vector3f) == 3 * sizeof(float));
+  // meshoptimizer errors are relative to the mesh extent; this converts them to metres.
+  const float scale = meshopt_simplifyScale(positions, mesh.vertices_m.size(), stride);
+  if (!(scale > 0)) return chain;
+
+  std::vector<uint32_t> out(indices.size());
+  // Errors kFirstErrorM * 2^k up to the mesh extent; a level is kept only if it removes
+  // triangles, and simplification stops at kMinTriangles.
+  for (float target_m = kFirstErrorM; target_m <= scale && chain.num_levels() < kMaxLevels;
+       target_m *= 2) {
+    float result_error = 0;
+    const size_t n = meshopt_simplify(out.data(), indices.data(), indices.size(), positions,
+                                      mesh.vertices_m.size(), stride, kMinTriangles * 3,
+                                      target_m / scale, /*options=*/0, &result_error);
+    const size_t prev = chain.levels_.back().mesh.triangles.size();
+    if (n >= 3 && n / 3 < prev) {
+      std::vector<uint32_t> kept(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(n));
+      // The reported error, but never below the previous level's (errors must grow).
+      const float err = std::max(result_error * scale, chain.levels_.back().error_m);
+      chain.levels_.push_back(LodLevel{Compact(mesh, kept), err});
+    }
+    if (n <= kMinTriangles * 3) break;
+  }
+  return chain;
+}
+
+int LodChain::Select(float max_error_m) const {
+  int best = 0;
+  for (int i = 1; i < num_levels(); ++i)
+    if (levels_[static_cast<size_t>(i)].error_m <= max_error_m) best = i;
+  return best;
+}
+
+float LodErrorBudgetM(float error_px, float z_m, float f_px) {
+  if (!(error_px > 0) || !(z_m > 0) || !(f_px > 0)) return 0.f;
+  return error_px * z_m / f_px;
+}
+
+uint64_t MeshFingerprint(const Mesh& mesh) {
+  uint64_t h = 1469598103934665603ull;
+  auto mix = [&h](const void* data, size_t bytes) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (size_t i = 0; i < bytes; ++i) h = (h ^ p[i]) * 1099511628211ull;
+  };
+  const uint64_t nv = mesh.vertices_m.size(), nt = mesh.triangles.size();
+  mix(&nv, sizeof nv);
+  mix(&nt, sizeof nt);
+  if (nv) mix(mesh.vertices_m.data(), nv * sizeof(Eigen::Vector3f));
+  if (nt) mix(mesh.triangles.data(), nt * sizeof(std::array<uint32_t, 3>));
+  return h;
+}
+
+}  // namespace mcpose::render

@@ -1,0 +1,46 @@
+// Level of detail for the raster cores: a chain of meshoptimizer simplifications of one mesh,
+// each with its geometric error in metres. The engine picks, per box, the coarsest level
+// whose error, projected at the box's depth, stays under a pixel budget (SelectLevel), so a
+// far or small object is rendered with far fewer triangles than its full mesh.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "mcpose/mesh.h"
+
+namespace mcpose::render {
+
+struct LodLevel {
+  Mesh mesh;            // vertices compacted to those the triangles use
+  float error_m = 0;    // meshoptimizer's geometric deviation from the full mesh, metres
+};
+
+class LodChain {
+ public:
+  // Level 0 is `mesh` itself (error 0). Coarser levels simplify to absolute errors of
+  // kFirstErrorM, 2x, 4x ... (while that still removes triangles and keeps at least
+  // kMinTriangles). `mesh` must be valid (Mesh::Validate).
+  static constexpr float kFirstErrorM = 0.00025f;
+  static constexpr int kMaxLevels = 7;
+  static constexpr size_t kMinTriangles = 64;
+  static LodChain Build(const Mesh& mesh);
+
+  int num_levels() const { return static_cast<int>(levels_.size()); }
+  const LodLevel& level(int i) const { return levels_[static_cast<size_t>(i)]; }
+
+  // The coarsest level whose error is at most max_error_m (level 0 when none is).
+  int Select(float max_error_m) const;
+
+ private:
+  std::vector<LodLevel> levels_;
+};
+
+// The error budget in metres of `error_px` pixels at depth z_m with focal length f_px
+// (the smaller of fx, fy). error_px <= 0 disables LOD (returns 0: only level 0 fits).
+float LodErrorBudgetM(float error_px, float z_m, float f_px);
+
+// A 64-bit FNV-1a fingerprint of a mesh's vertices and triangles (for caching chains).
+uint64_t MeshFingerprint(const Mesh& mesh);
+
+}  // namespace mcpose::render
