@@ -13,6 +13,7 @@ namespace mcpose::cli {
 void AddEstimateCommand(CLI::App& app, Status* status);
 void AddDetectionsFromGtCommand(CLI::App& app, Status* status);
 void AddEvalCommand(CLI::App& app, Status* status);
+void AddBenchCommand(CLI::App& app, Status* status);
 
 // Writes `text` to `path` through a temporary file and a rename: no partial file on error.
 Status WriteFileAtomically(const std::string& path, const std::string& text);

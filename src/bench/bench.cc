@@ -1,0 +1,213 @@
+#include "bench/bench.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <thread>
+
+#include "baselines/depth_baseline.h"
+#include "core/parallel_for.h"
+#include "mcpose/eval.h"
+#include "engine/initialize.h"
+#include "engine/pipeline.h"
+#include "engine/raster_cores.h"
+#include "render/lod.h"
+#include "score/inlier.h"
+
+namespace mcpose::bench {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double MsSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+struct Stats3 {
+  double median = 0, min = 0, max = 0;
+};
+
+Stats3 Summarize(std::vector<double> v) {
+  Stats3 s;
+  if (v.empty()) return s;
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  s.median = n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+  s.min = v.front(), s.max = v.back();
+  return s;
+}
+
+// The first frame (sorted) in which obj_id is visible, with its tight visible-mask box.
+Status FindObject(const Dataset& ds, int obj_id, Frame* frame, Detection* box) {
+  for (const FrameKey& key : ds.Frames()) {
+    MCPOSE_ASSIGN_OR_RETURN(Frame f, ds.LoadFrame(key));
+    for (const GtInstance& gt : f.gt) {
+      if (gt.obj_id != obj_id) continue;
+      MCPOSE_ASSIGN_OR_RETURN(MaskImage mask, ds.LoadVisibleMask(key, gt));
+      Detection d{key.scene_id, key.image_id, obj_id, 1.0};
+      if (MaskBox(mask, &d) == 0) continue;
+      *frame = std::move(f);
+      *box = d;
+      return Status::Ok();
+    }
+  }
+  return NotFound("obj_id " + std::to_string(obj_id) + " (" + ds.ObjectName(obj_id) +
+                  ") is visible in no frame of " + ds.root());
+}
+
+}  // namespace
+
+std::string MachineDescription() {
+  std::ifstream in("/proc/cpuinfo");
+  std::string line, model;
+  int cpus = 0;
+  while (std::getline(in, line)) {
+    if (line.rfind("model name", 0) == 0 && model.empty()) model = line.substr(line.find(':') + 2);
+    if (line.rfind("processor", 0) == 0) ++cpus;
+  }
+  if (model.empty()) model = "unknown CPU";
+  return model + ", " + std::to_string(cpus ? cpus : static_cast<int>(std::thread::hardware_concurrency())) +
+         " logical CPUs";
+}
+
+StatusOr<std::vector<BenchObject>> RunBench(const Dataset& ds, const BenchOptions& options,
+                                            const BenchProgressFn& progress) {
+  std::vector<int> ids = options.obj_ids;
+  if (ids.empty()) ids = {2, 4, 5, 9, 10};
+  const std::vector<int> known = ds.ObjectIds();
+  for (int id : ids)
+    if (!std::binary_search(known.begin(), known.end(), id))
+      return InvalidArgument("--objects: unknown obj_id " + std::to_string(id) + " in " + ds.root());
+  if (options.iterations < 1) return InvalidArgument("--iterations must be >= 1");
+  if (options.render_repeats < 1) return InvalidArgument("--repeats must be >= 1");
+  for (const auto& b : options.baselines)
+    if (b != "embree" && b != "osmesa")
+      return InvalidArgument("--baselines: unknown baseline '" + b + "' (expected embree, osmesa)");
+
+  EstimatorOptions eo = options.estimator;
+  eo.tau = std::numeric_limits<double>::max();  // weights are <= 1: never stops early
+  eo.max_iterations = options.iterations;
+  std::string error;
+  if (!eo.IsValid(&error)) return InvalidArgument("invalid options: " + error);
+  MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<Estimator> estimator, Estimator::Create(eo));
+  engine::RasterCores cores(eo.threads, eo.backend);
+
+  std::vector<BenchObject> out;
+  for (int obj_id : ids) {
+    BenchObject r;
+    r.obj_id = obj_id;
+    r.name = ds.ObjectName(obj_id);
+    Frame frame;
+    MCPOSE_RETURN_IF_ERROR(FindObject(ds, obj_id, &frame, &r.box));
+    r.frame = frame.key;
+    MCPOSE_ASSIGN_OR_RETURN(Mesh mesh, ds.LoadMesh(obj_id));
+    const Intrinsics& K = frame.K;
+    r.samples = eo.samples;
+    r.threads = cores.threads();
+
+    // ---- Full iterations: the estimator itself ------------------------------------------
+    MCPOSE_ASSIGN_OR_RETURN(ObjectEstimate e, estimator->Estimate(K, frame.depth, mesh, std::span(&r.box, 1),
+                                                                  GroupStreamId(r.frame.scene_id, r.frame.image_id, obj_id)));
+    r.iterations = e.iterations;
+    r.counters = e.counters;
+    r.iteration_ms = e.iteration_ms;
+    r.score_ms = e.score_ms;
+    r.fragments_per_iteration_series = e.fragments_per_iteration;
+    r.depth_bytes_per_iteration = e.depth_bytes_per_iteration;
+    r.mean_weight_history = e.mean_weight_history;
+    const Stats3 full = Summarize(e.iteration_ms), score = Summarize(e.score_ms);
+    r.full_iteration_ms_median = full.median, r.full_iteration_ms_min = full.min, r.full_iteration_ms_max = full.max;
+    r.render_inlier_ms_median = score.median, r.render_inlier_ms_min = score.min, r.render_inlier_ms_max = score.max;
+    r.hypotheses_per_s = full.median > 0 ? 1000.0 * eo.samples / full.median : 0;
+    r.triangles_full = static_cast<int>(mesh.triangles.size());
+    r.triangles_lod = e.box_triangles.empty() ? r.triangles_full : e.box_triangles[0];
+    const double renders = static_cast<double>(eo.samples) * e.iterations;
+    r.triangles_after_cull = e.counters.triangles_rasterized / renders;
+    r.fragments_per_iteration = static_cast<double>(e.counters.fragments) / e.iterations;
+    const EngineCounters& c = e.counters;
+    r.cdf_reads_per_draw = c.cdf_draws ? static_cast<double>(c.cdf_reads) / c.cdf_draws : 0;
+    r.cdf_reads_per_draw_naive = c.cdf_draws ? static_cast<double>(c.cdf_reads_naive) / c.cdf_draws : 0;
+    r.depth_bytes_read = c.depth_bytes_read, r.depth_bytes_read_naive = c.depth_bytes_read_naive;
+
+    // ---- Render + inlier on the initial hypotheses: mcpose and the baselines -------------
+    std::vector<engine::BoxDepth> boxes;
+    boxes.push_back(engine::DistributeDepth(frame.depth, K, engine::ClipBox(r.box.x, r.box.y, r.box.w, r.box.h,
+                                                                            K.width, K.height),
+                                            1.0, InlierMode::k1D));
+    filter::ParticleSet particles;
+    engine::InitializeSamples(K, mesh, std::span(&r.box, 1), boxes, eo, GroupStreamId(r.frame.scene_id, r.frame.image_id, obj_id),
+                              &particles);
+    const render::LodChain lod = render::LodChain::Build(mesh);
+    const Mesh& render_mesh = lod.level(engine::SelectLodLevel(lod, K, mesh, r.box, boxes[0], eo)).mesh;
+    const Mesh* box_mesh[1] = {&render_mesh};
+    engine::ScoreJob job;
+    job.mesh = &mesh;
+    job.box_mesh = box_mesh;
+    job.K = K;
+    job.boxes = boxes;
+    job.eps_m = static_cast<float>(eo.eps_m);
+    job.cull_backfaces = eo.backface_culling;
+    std::vector<score::InlierCounts> counts(particles.size());
+    std::vector<double> times;
+    for (int k = 0; k < options.render_repeats; ++k) {
+      const auto t0 = Clock::now();
+      cores.Score(job, particles, counts, nullptr);
+      times.push_back(MsSince(t0));
+    }
+    r.mcpose_render_inlier_initial_ms = Summarize(times).median;
+    for (const auto& cnt : counts) r.mcpose_inliers_total += cnt.inliers;
+
+    render::RasterParams params;
+    params.fx = static_cast<float>(K.fx), params.fy = static_cast<float>(K.fy);
+    params.cx = static_cast<float>(K.cx), params.cy = static_cast<float>(K.cy);
+    params.box = boxes[0].rect;
+    params.cull_backfaces = eo.backface_culling;
+    for (const std::string& name : options.baselines) {
+      MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<baselines::DepthBaseline> base,
+                              baselines::CreateDepthBaseline(name, render_mesh, K.width, K.height));
+      std::vector<score::InlierCounts> bc(particles.size());
+      const int workers = base->thread_safe() ? cores.threads() : 1;
+      std::vector<std::vector<float>> zbuf(static_cast<size_t>(workers),
+                                           std::vector<float>(static_cast<size_t>(params.box.area())));
+      auto render_one = [&](int64_t i, int worker) {
+        base->Render(particles.R_cam_obj[i].cast<float>(), particles.t_cam_obj_m[i].cast<float>(), params,
+                     zbuf[worker].data());
+        bc[i] = score::CountInliers1D(zbuf[worker], boxes[0].observed, job.eps_m);
+      };
+      std::vector<double> bt;
+      for (int k = 0; k < options.render_repeats; ++k) {
+        const auto t0 = Clock::now();
+        if (workers > 1) {
+          cores.pool().ParallelFor(static_cast<int64_t>(particles.size()), [&](int64_t b, int64_t e2, int w) {
+            for (int64_t i = b; i < e2; ++i) render_one(i, w);
+          });
+        } else {
+          for (int64_t i = 0; i < static_cast<int64_t>(particles.size()); ++i) render_one(i, 0);
+        }
+        bt.push_back(MsSince(t0));
+      }
+      BaselineResult br;
+      br.name = name;
+      br.render_inlier_ms_median = Summarize(bt).median;
+      br.speedup = r.mcpose_render_inlier_initial_ms > 0 ? br.render_inlier_ms_median / r.mcpose_render_inlier_initial_ms : 0;
+      double abs_diff = 0;
+      for (size_t i = 0; i < bc.size(); ++i) {
+        br.inliers_total += bc[i].inliers;
+        abs_diff += std::abs(bc[i].inliers - counts[i].inliers) / std::max(1.0, double(counts[i].rendered));
+      }
+      br.inliers_rel_diff = r.mcpose_inliers_total
+                                ? std::abs(double(br.inliers_total - r.mcpose_inliers_total)) / r.mcpose_inliers_total
+                                : 0;
+      br.inliers_mean_abs_diff = bc.empty() ? 0 : abs_diff / bc.size();
+      r.baselines.push_back(br);
+    }
+    if (progress) progress(r);
+    out.push_back(std::move(r));
+  }
+  return out;
+}
+
+}  // namespace mcpose::bench

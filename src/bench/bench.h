@@ -1,0 +1,71 @@
+// `mcpose bench`: one Monte-Carlo iteration of the paper's workload, timed. Per object: its
+// first real frame, the ground-truth visible-mask box (score 1), samples drawn as the
+// estimator draws them. Measures
+//   - the full iteration (render + inlier + weights + resample + diffuse) by running the
+//     estimator for `iterations` iterations with tau = infinity (no early stop);
+//   - render + inlier alone on the initial hypotheses, for mcpose's raster cores and for each
+//     baseline (src/baselines) on the same hypotheses, same boxes and same mesh, with the
+//     inlier counts compared so that the times are of the same work.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "mcpose/dataset.h"
+#include "mcpose/estimator.h"
+#include "mcpose/options.h"
+#include "mcpose/status.h"
+
+namespace mcpose::bench {
+
+struct BenchOptions {
+  std::vector<int> obj_ids;           // empty: the paper's five objects (2, 4, 5, 9, 10)
+  EstimatorOptions estimator;         // samples, threads, engine, LOD ...; tau is ignored
+  int iterations = 50;                // full iterations timed per object
+  int render_repeats = 5;             // repeats of render + inlier for mcpose and baselines
+  std::vector<std::string> baselines;  // "embree", "osmesa"
+};
+
+struct BaselineResult {
+  std::string name;
+  double render_inlier_ms_median = 0;
+  double speedup = 0;                  // baseline ms / mcpose ms, same hypotheses
+  int64_t inliers_total = 0;           // sum of N over the samples
+  double inliers_rel_diff = 0;         // |sum N - mcpose sum N| / mcpose sum N
+  double inliers_mean_abs_diff = 0;    // mean over samples of |N - N_mcpose| / max(1, N_r mcpose)
+};
+
+struct BenchObject {
+  int obj_id = 0;
+  std::string name;
+  FrameKey frame;
+  Detection box;
+  int samples = 0, threads = 0;
+  int triangles_full = 0, triangles_lod = 0;
+  double triangles_after_cull = 0;     // rasterized triangles per sample render (mean)
+  double fragments_per_iteration = 0;  // mean over iterations
+  double render_inlier_ms_median = 0, render_inlier_ms_min = 0, render_inlier_ms_max = 0;
+  double full_iteration_ms_median = 0, full_iteration_ms_min = 0, full_iteration_ms_max = 0;
+  double hypotheses_per_s = 0;         // samples / median full iteration
+  int64_t mcpose_inliers_total = 0;    // on the initial hypotheses (baseline comparison)
+  double mcpose_render_inlier_initial_ms = 0;  // median, initial hypotheses
+  std::vector<BaselineResult> baselines;
+  EngineCounters counters;             // summed over the timed iterations
+  int iterations = 0;
+  double cdf_reads_per_draw = 0, cdf_reads_per_draw_naive = 0;
+  int64_t depth_bytes_read = 0, depth_bytes_read_naive = 0;  // summed over iterations
+  std::vector<double> iteration_ms, score_ms;                // per iteration
+  std::vector<int64_t> fragments_per_iteration_series, depth_bytes_per_iteration;
+  std::vector<double> mean_weight_history;
+};
+
+using BenchProgressFn = std::function<void(const BenchObject&)>;
+
+StatusOr<std::vector<BenchObject>> RunBench(const Dataset& dataset, const BenchOptions& options,
+                                            const BenchProgressFn& progress);
+
+// "model name @ N cores, ..." of this machine (from /proc/cpuinfo), for records.
+std::string MachineDescription();
+
+}  // namespace mcpose::bench
