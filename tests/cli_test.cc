@@ -180,14 +180,17 @@ std::vector<std::string> RowsWithoutTime(const fs::path& csv) {
   return rows;
 }
 
-TEST(Cli, SameSeedSameCsvAtAnyThreadCount) {
+class CliThreads : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(CliThreads, SameSeedSameCsvAtAnyThreadCount) {
   const fs::path dir = testing::TempDir("threads");
   WriteText(dir / "dets.json", Scene49Detections().dump());
   std::vector<std::vector<std::string>> runs;
   for (int threads : {1, 2, 3}) {
     const fs::path out = dir / ("r" + std::to_string(threads) + ".csv");
     const CliResult r = RunCli("estimate --dataset " + testing::YcbvDir() + " --detections " + (dir / "dets.json").string() +
-                                   " --out " + out.string() + " --iterations 6 --seed 5 -q --threads " + std::to_string(threads),
+                                   " --out " + out.string() + " --iterations 6 --seed 5 -q " + GetParam() +
+                                   " --threads " + std::to_string(threads),
                                dir);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     runs.push_back(RowsWithoutTime(out));
@@ -195,6 +198,55 @@ TEST(Cli, SameSeedSameCsvAtAnyThreadCount) {
   ASSERT_EQ(runs[0].size(), 4u);  // header + one row per class
   EXPECT_EQ(runs[0], runs[1]);
   EXPECT_EQ(runs[0], runs[2]);
+}
+
+std::string EngineTestName(const ::testing::TestParamInfo<std::string>& info) {
+  static const char* const kNames[] = {"scalar", "fixed", "simd_lod"};
+  return kNames[info.index];
+}
+
+INSTANTIATE_TEST_SUITE_P(Engines, CliThreads,
+                         ::testing::Values("--engine scalar", "--engine fixed", "--engine simd --lod-px 1"),
+                         EngineTestName);
+
+// `mcpose bench` on one object with both baselines: every documented JSON field is there, the
+// baselines count the same inliers as mcpose (the comparison is of the same work).
+TEST(Cli, BenchWritesEveryFieldAndBaselinesAgree) {
+  const fs::path dir = testing::TempDir("bench");
+  const fs::path json = dir / "bench.json";
+  const CliResult r = RunCli("bench --dataset " + testing::YcbvDir() + " --objects 10 --samples 120 --iterations 4 "
+                             "--repeats 1 --engine simd --lod-px 1 --baselines embree,osmesa --json " + json.string(),
+                             dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("011_banana"), std::string::npos) << r.out;
+  const nlohmann::json doc = nlohmann::json::parse(ReadText(json));
+  ASSERT_TRUE(doc.contains("machine"));
+  ASSERT_EQ(doc["objects"].size(), 1u);
+  const auto& o = doc["objects"][0];
+  for (const char* f : {"obj_id", "name", "samples", "threads", "triangles_full", "triangles_lod",
+                        "triangles_after_cull", "fragments_per_iteration", "render_inlier_ms_median",
+                        "full_iteration_ms_median", "full_iteration_ms_min", "full_iteration_ms_max",
+                        "hypotheses_per_s", "embree_ms_median", "osmesa_ms_median", "speedup_embree",
+                        "speedup_osmesa", "cdf_reads_per_draw", "cdf_reads_per_draw_naive", "depth_bytes_read",
+                        "depth_bytes_read_naive"})
+    EXPECT_TRUE(o.contains(f)) << f;
+  EXPECT_EQ(o["obj_id"], 10);
+  EXPECT_EQ(o["samples"], 120);
+  EXPECT_EQ(o["per_iteration"]["full_ms"].size(), 4u);
+  EXPECT_LT(o["triangles_lod"].get<int>(), o["triangles_full"].get<int>());
+  EXPECT_LT(o["cdf_reads_per_draw"].get<double>(), o["cdf_reads_per_draw_naive"].get<double>());
+  ASSERT_EQ(o["baselines"].size(), 2u);
+  for (const auto& b : o["baselines"]) EXPECT_LT(b["inliers_rel_diff"].get<double>(), 0.01) << b.dump();
+
+  // Bad input: one clear error, no JSON.
+  fs::remove(json);
+  for (const std::string& bad : {std::string("--objects 99"), std::string("--baselines vulkan"),
+                                 std::string("--iterations 0"), std::string("--engine gpu")}) {
+    const CliResult e = RunCli("bench --dataset " + testing::YcbvDir() + " " + bad + " --json " + json.string(), dir);
+    EXPECT_EQ(e.exit_code, 1) << bad;
+    EXPECT_NE(e.err.find("error"), std::string::npos) << bad << ": " << e.err;
+    EXPECT_FALSE(fs::exists(json)) << bad;
+  }
 }
 
 TEST(Cli, BopAndNativeLayoutsGiveTheSamePoses) {
@@ -242,7 +294,7 @@ TEST(Cli, EvalScoresGroundTruthDetectionsRunOnBothLayouts) {
 
 TEST(Cli, HelpOnEveryCommand) {
   const fs::path dir = testing::TempDir("help");
-  for (const char* cmd : {"", "estimate ", "detections-from-gt ", "eval "}) {
+  for (const char* cmd : {"", "estimate ", "detections-from-gt ", "eval ", "bench "}) {
     const CliResult r = RunCli(std::string(cmd) + "--help", dir);
     EXPECT_EQ(r.exit_code, 0) << cmd;
     EXPECT_NE(r.out.find("--"), std::string::npos) << cmd;

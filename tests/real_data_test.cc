@@ -2,6 +2,8 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <ostream>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -15,6 +17,10 @@
 #include "test_data.h"
 
 namespace mcpose {
+
+// Readable test parameters ("scene 49 image 1"), found by gtest through ADL.
+void PrintTo(const FrameKey& k, std::ostream* os) { *os << "scene " << k.scene_id << " image " << k.image_id; }
+
 namespace {
 
 std::unique_ptr<Dataset> OpenYcbv() {
@@ -89,7 +95,11 @@ TEST_P(GroundTruthRender, ReproducesLabelMaskAndObservedDepth) {
 
 INSTANTIATE_TEST_SUITE_P(RealFrames, GroundTruthRender,
                          ::testing::Values(FrameKey{0, 1}, FrameKey{1, 1}, FrameKey{2, 1},
-                                           FrameKey{3, 138}, FrameKey{49, 1}));
+                                           FrameKey{3, 138}, FrameKey{49, 1}),
+                         [](const ::testing::TestParamInfo<FrameKey>& info) {
+                           return "scene" + std::to_string(info.param.scene_id) + "_image" +
+                                  std::to_string(info.param.image_id);
+                         });
 
 // The ground-truth pose must score in the top 1% of the estimator's own random samples of the
 // object's tight box (the weight is what the filter climbs; if GT does not win, it cannot work).

@@ -13,7 +13,7 @@ namespace mcpose::cli {
 namespace {
 
 struct BenchArgs {
-  std::string dataset, split = "test", json, engine = "scalar", baselines;
+  std::string dataset, split = "test", json, engine = "simd", baselines;
   std::vector<int> objects;
   bench::BenchOptions options;
 };

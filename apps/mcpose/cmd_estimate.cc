@@ -119,6 +119,7 @@ Status RunEstimate(EstimateArgs& a) {
                             {"weights", {o.weight_a, o.weight_b, o.weight_c}},
                             {"engine", RasterBackendName(o.backend)},
                             {"lod_px", o.lod_error_px},
+                            {"occlusion_aware", o.occlusion_aware},
                             {"threads", o.threads}}},
                           {"objects", objects}};
     MCPOSE_RETURN_IF_ERROR(WriteFileAtomically(a.out_json, doc.dump(1) + "\n"));
@@ -166,6 +167,7 @@ void AddEstimateCommand(CLI::App& app, Status* status) {
   cmd->add_option("--init-depth-quantile", o.init_depth_quantile, "Quantile of the box's valid depths for the initial distance")->capture_default_str();
   cmd->add_option("--engine", args->engine, "Raster core: scalar (float reference), fixed (1/16-pixel fixed point) or simd (fixed point, Highway rows)")->capture_default_str();
   cmd->add_option("--lod-px", o.lod_error_px, "Level of detail: coarsest simplified mesh within this error in pixels at the box depth; 0 = full mesh")->capture_default_str();
+  cmd->add_flag("--occlusion-aware", o.occlusion_aware, "Leave rendered pixels hidden behind observed surfaces out of N_r");
   cmd->add_flag("--no-backface-culling", args->no_culling, "Rasterize back faces too");
   cmd->add_flag("-q,--quiet", args->quiet, "No progress output");
   cmd->callback([args, status] { *status = RunEstimate(*args); });

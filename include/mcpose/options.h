@@ -49,6 +49,9 @@ struct EstimatorOptions {
   double weight_a = 0.45;
   double weight_b = 0.45;
   double weight_c = 0.10;
+  // Rendered pixels with an observed surface at least eps in front (occluded by something
+  // else) are left out of N_r in the precision term (1-D inlier test only).
+  bool occlusion_aware = false;
 
   // --- Resampling -----------------------------------------------------------------------
   double keep_top_fraction = 1.0;  // resample only from the best fraction of samples, (0, 1]
@@ -62,7 +65,7 @@ struct EstimatorOptions {
   double anneal = 0.93;            // per-iteration factor, (0, 1]
 
   // --- Engine ---------------------------------------------------------------------------
-  RasterBackend backend = RasterBackend::kScalar;
+  RasterBackend backend = RasterBackend::kScalar;  // fast: kSimd with lod_error_px = 1
   // Level of detail: each box renders the coarsest meshoptimizer simplification whose
   // geometric error, projected at the box's initial depth, is at most lod_error_px pixels
   // (render/lod.h). 0 = always the full mesh.

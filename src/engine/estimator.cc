@@ -169,7 +169,7 @@ StatusOr<ObjectEstimate> Estimator::Estimate(const Intrinsics& K, const DepthIma
     double sum = 0;
     for (int i = 0; i < n; ++i) {
       p.weight[i] = score::Weight(counts[i], box_depth[p.box[i]].score, opt.weight_a,
-                                  opt.weight_b, opt.weight_c);
+                                  opt.weight_b, opt.weight_c, opt.occlusion_aware);
       sum += p.weight[i];
       if (p.weight[i] > result.best_weight) {
         result.best_weight = p.weight[i];

@@ -49,7 +49,7 @@ TEST(EstimatorOptions, EachInvalidFieldIsNamed) {
 }
 
 TEST(EstimatorOptions, BackendNamesRoundTrip) {
-  for (RasterBackend b : {RasterBackend::kScalar, RasterBackend::kFixedPoint}) {
+  for (RasterBackend b : {RasterBackend::kScalar, RasterBackend::kFixedPoint, RasterBackend::kSimd}) {
     RasterBackend parsed;
     ASSERT_TRUE(ParseRasterBackend(RasterBackendName(b), &parsed));
     EXPECT_EQ(parsed, b);

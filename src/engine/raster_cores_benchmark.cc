@@ -1,5 +1,8 @@
-// Render + inlier counting of one iteration (620 samples drawn as the estimator draws them) on
-// real YCB-Video frames, at the ground-truth box, over a grid of {object, engine, threads}.
+// Micro-benchmarks of the engine's stages on real YCB-Video frames (ground-truth boxes, samples
+// drawn as the estimator draws them):
+//   BM_ScoreIteration  render + inlier counting of one iteration, grid {object, engine, LOD,
+//                      threads, samples}
+//   BM_Resample        sort + threshold table + N draws (the paper's resampler), grid {samples}
 //   build/mcpose_benchmarks --benchmark_filter=ScoreIteration
 #include <cstdlib>
 #include <map>
@@ -10,6 +13,8 @@
 
 #include "engine/initialize.h"
 #include "engine/raster_cores.h"
+#include "filter/resample.h"
+#include "render/lod.h"
 #include "mcpose/dataset.h"
 #include "mcpose/eval.h"
 
@@ -27,12 +32,14 @@ struct Workload {
   Detection det;
   std::vector<engine::BoxDepth> boxes;
   filter::ParticleSet particles;
+  std::unique_ptr<render::LodChain> lod;
+  const Mesh* lod_mesh = nullptr;  // the level a 1-pixel budget picks for this box
 };
 
 // One object of one real frame, boxed by its visible mask.
-const Workload& GetWorkload(FrameKey key, int obj_id) {
-  static std::map<std::pair<FrameKey, int>, std::unique_ptr<Workload>> cache;
-  auto& slot = cache[{key, obj_id}];
+const Workload& GetWorkload(FrameKey key, int obj_id, int samples) {
+  static std::map<std::tuple<FrameKey, int, int>, std::unique_ptr<Workload>> cache;
+  auto& slot = cache[{key, obj_id, samples}];
   if (slot) return *slot;
   auto ds = Dataset::Open(DataDir() + "/ycbv");
   if (!ds.ok()) std::abort();
@@ -50,21 +57,31 @@ const Workload& GetWorkload(FrameKey key, int obj_id) {
       engine::ClipBox(w->det.x, w->det.y, w->det.w, w->det.h, w->frame.K.width, w->frame.K.height), 1.0,
       InlierMode::k1D));
   EstimatorOptions options;
+  options.samples = samples;
+  options.lod_error_px = 1.0;
   engine::InitializeSamples(w->frame.K, w->mesh, std::span(&w->det, 1), w->boxes, options, 1, &w->particles);
+  w->lod = std::make_unique<render::LodChain>(render::LodChain::Build(w->mesh));
+  w->lod_mesh = &w->lod->level(engine::SelectLodLevel(*w->lod, w->frame.K, w->mesh, w->det, w->boxes[0], options)).mesh;
   slot = std::move(w);
   return *slot;
 }
 
-// Args: object index, engine (0 scalar, 1 fixed), threads.
+// The paper's five objects in the first real frame that shows each (as `mcpose bench` picks).
+constexpr std::pair<FrameKey, int> kObjects[] = {
+    {{1, 1}, 2}, {{3, 138}, 4}, {{1, 1}, 5}, {{2, 1}, 9}, {{2, 1}, 10}};
+
+// Args: object index, engine (0 scalar, 1 fixed, 2 simd), LOD (0 full mesh, 1 one pixel),
+// threads, samples.
 void BM_ScoreIteration(benchmark::State& state) {
-  static const std::pair<FrameKey, int> kObjects[] = {
-      {{1, 1}, 2}, {{49, 1}, 3}, {{1, 1}, 5}, {{49, 1}, 9}, {{2, 1}, 10}};
   const auto& [key, obj_id] = kObjects[state.range(0)];
-  const Workload& w = GetWorkload(key, obj_id);
-  const auto backend = state.range(1) == 0 ? RasterBackend::kScalar : RasterBackend::kFixedPoint;
-  engine::RasterCores cores(static_cast<int>(state.range(2)), backend);
+  const Workload& w = GetWorkload(key, obj_id, static_cast<int>(state.range(4)));
+  const RasterBackend backends[] = {RasterBackend::kScalar, RasterBackend::kFixedPoint, RasterBackend::kSimd};
+  const auto backend = backends[state.range(1)];
+  engine::RasterCores cores(static_cast<int>(state.range(3)), backend);
+  const Mesh* box_mesh[1] = {state.range(2) ? w.lod_mesh : &w.mesh};
   engine::ScoreJob job;
   job.mesh = &w.mesh;
+  job.box_mesh = box_mesh;
   job.K = w.frame.K;
   job.boxes = w.boxes;
   std::vector<score::InlierCounts> counts(w.particles.size());
@@ -73,18 +90,49 @@ void BM_ScoreIteration(benchmark::State& state) {
     cores.Score(job, w.particles, counts, &stats);
     benchmark::DoNotOptimize(counts.data());
   }
-  state.SetLabel("obj " + std::to_string(obj_id) + " " + RasterBackendName(backend));
+  state.SetLabel("obj " + std::to_string(obj_id) + " " + RasterBackendName(backend) +
+                 (state.range(2) ? " lod" : " full"));
   state.counters["hypotheses_per_s"] =
       benchmark::Counter(static_cast<double>(w.particles.size()), benchmark::Counter::kIsIterationInvariantRate);
   state.counters["fragments_per_iter"] = static_cast<double>(stats.fragments) / state.iterations();
 }
 
+// Engines x LOD at the paper's 620 samples, 1 and 2 threads.
 BENCHMARK(BM_ScoreIteration)
-    ->ArgNames({"object", "engine", "threads"})
-    ->ArgsProduct({{0, 1, 2, 3, 4}, {0, 1}, {1, 2}})
+    ->ArgNames({"object", "engine", "lod", "threads", "samples"})
+    ->ArgsProduct({{0, 1, 2, 3, 4}, {0, 1, 2}, {0, 1}, {1, 2}, {620}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
-    ->MinTime(1.0);
+    ->MinTime(0.5);
+// The fast engine over {samples, threads}.
+BENCHMARK(BM_ScoreIteration)
+    ->ArgNames({"object", "engine", "lod", "threads", "samples"})
+    ->ArgsProduct({{2}, {2}, {1}, {1, 2}, {155, 620, 2480}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MinTime(0.5);
+
+// Sort + table + one draw per sample, on weights of the shape the filter produces (a few
+// heavy samples over a long light tail). Args: samples, table size.
+void BM_Resample(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  std::vector<double> weights(static_cast<size_t>(n));
+  uint64_t x = 88172645463325252ull;
+  for (double& w : weights) {
+    x ^= x << 13, x ^= x >> 7, x ^= x << 17;
+    const double u = static_cast<double>(x >> 11) * 0x1.0p-53;
+    w = 0.3 + 0.6 * u * u * u;
+  }
+  filter::CdfSampler sampler;
+  int64_t reads = 0, draws = 0;
+  for (auto _ : state) {
+    sampler.Build(weights, 1.0, static_cast<int>(state.range(1)));
+    for (int i = 0; i < n; ++i) benchmark::DoNotOptimize(sampler.Draw((i + 0.5) / n, &reads));
+    draws += n;
+  }
+  state.counters["reads_per_draw"] = static_cast<double>(reads) / static_cast<double>(draws);
+}
+BENCHMARK(BM_Resample)->ArgNames({"samples", "table"})->ArgsProduct({{155, 620, 2480}, {1, 64}})->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace mcpose

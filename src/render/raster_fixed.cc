@@ -146,8 +146,11 @@ void RasterizeDepthFixedPoint(std::span<const ScreenVertex> vertices,
     }
     ft.A = static_cast<float>(A), ft.B = static_cast<float>(B), ft.C = static_cast<float>(C);
 
-    // Walk the bounding box: 8+ pixels at a time where the edge functions fit in 32 bits.
-    const bool simd_fits = max_x - min_x <= kMaxSimdSpanPx * kOne && max_y - min_y <= kMaxSimdSpanPx * kOne;
+    // Walk the bounding box: a vector of pixels at a time where the edge functions fit in 32
+    // bits and rows are wide enough to fill one; tiny triangles (full meshes far away) are
+    // cheaper one pixel at a time. Both kernels give bit-identical results.
+    const bool simd_fits = max_x - min_x <= kMaxSimdSpanPx * kOne && max_y - min_y <= kMaxSimdSpanPx * kOne &&
+                           x_hi - x_lo + 1 >= kMinSimdRowPx;
     const int64_t covered = rows == RowKernel::kSimd && simd_fits ? FillTriangleSimd(ft, zbuf, stride)
                                                                   : FillTriangleScalar(ft, zbuf, stride);
     if (covered == 0) {

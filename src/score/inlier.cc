@@ -22,6 +22,7 @@ InlierCounts CountInliers1D(std::span<const float> rendered, std::span<const flo
     c.rendered += drawn;
     c.observed += zo > 0.f;
     c.inliers += drawn && zo > 0.f && std::fabs(zr - zo) < eps_m;
+    c.occluded += drawn && zo > 0.f && zo <= zr - eps_m;
   }
   return c;
 }
@@ -33,14 +34,16 @@ InlierCounts CountInliers1DInRect(const float* rendered, const float* observed, 
   for (int y = rect.y0; y < rect.y1; ++y) {
     const float* zr = rendered + static_cast<size_t>(y) * stride;
     const float* zo = observed + static_cast<size_t>(y) * stride;
-    int32_t drawn = 0, inliers = 0;  // per row: lets the compiler vectorize the inner loop
+    int32_t drawn = 0, inliers = 0, occluded = 0;  // per row: lets the compiler vectorize
     for (int x = rect.x0; x < rect.x1; ++x) {
-      const bool d = zr[x] != INFINITY;
+      const bool d = zr[x] != INFINITY, valid = zo[x] > 0.f;
       drawn += d;
-      inliers += d & (zo[x] > 0.f) & (std::fabs(zr[x] - zo[x]) < eps_m);
+      inliers += d & valid & (std::fabs(zr[x] - zo[x]) < eps_m);
+      occluded += d & valid & (zo[x] <= zr[x] - eps_m);
     }
     c.rendered += drawn;
     c.inliers += inliers;
+    c.occluded += occluded;
   }
   return c;
 }

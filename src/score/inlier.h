@@ -18,13 +18,15 @@ struct InlierCounts {
   int32_t inliers = 0;   // N
   int32_t rendered = 0;  // N_r
   int32_t observed = 0;  // N_b
+  int32_t occluded = 0;  // rendered pixels whose observed depth lies in front by >= eps (1-D only)
   bool operator==(const InlierCounts&) const = default;
 };
 
 // Valid observed pixels (depth > 0) of a box: N_b. Independent of the hypothesis.
 int32_t CountObserved(std::span<const float> observed);
 
-// The paper's 1-D test: N counts pixels with |z_rendered - z_observed| < eps_m, observed > 0.
+// The paper's 1-D test: N counts pixels with |z_rendered - z_observed| < eps_m, observed > 0;
+// `occluded` counts rendered pixels with z_observed <= z_rendered - eps_m (something in front).
 InlierCounts CountInliers1D(std::span<const float> rendered, std::span<const float> observed,
                             float eps_m);
 
@@ -34,10 +36,14 @@ InlierCounts CountInliers1D(std::span<const float> rendered, std::span<const flo
 InlierCounts CountInliers1DInRect(const float* rendered, const float* observed, int stride,
                                   const render::PixelRect& rect, int32_t n_observed, float eps_m);
 
-// w = a * N / N_b + b * N / N_r + c * score; a term with a zero denominator is 0.
-inline double Weight(const InlierCounts& n, double score, double a, double b, double c) {
+// w = a * N / N_b + b * N / N_r + c * score; a term with a zero denominator is 0. With
+// `occlusion_aware`, rendered pixels hidden behind observed surfaces do not count against the
+// precision term: N_r becomes N_r - occluded.
+inline double Weight(const InlierCounts& n, double score, double a, double b, double c,
+                     bool occlusion_aware = false) {
+  const int32_t rendered = occlusion_aware ? n.rendered - n.occluded : n.rendered;
   const double recall = n.observed > 0 ? static_cast<double>(n.inliers) / n.observed : 0.0;
-  const double precision = n.rendered > 0 ? static_cast<double>(n.inliers) / n.rendered : 0.0;
+  const double precision = rendered > 0 ? static_cast<double>(n.inliers) / rendered : 0.0;
   return a * recall + b * precision + c * score;
 }
 

@@ -36,6 +36,7 @@ TEST(Inlier, OneDimensionalCountsMatchNaiveLoop) {
       if (std::isinf(b.rendered[i])) continue;
       ++naive.rendered;
       if (b.observed[i] > 0 && std::abs(b.rendered[i] - b.observed[i]) < eps) ++naive.inliers;
+      if (b.observed[i] > 0 && b.observed[i] <= b.rendered[i] - eps) ++naive.occluded;
     }
     EXPECT_EQ(CountInliers1D(b.rendered, b.observed, eps), naive);
     EXPECT_EQ(CountObserved(b.observed), naive.observed);
@@ -92,6 +93,10 @@ TEST(Inlier, WeightFormula) {
   InlierCounts c{50, 100, 200};
   EXPECT_DOUBLE_EQ(Weight(c, 0.8, 0.5, 0.3, 0.2), 0.5 * 0.25 + 0.3 * 0.5 + 0.2 * 0.8);
   EXPECT_DOUBLE_EQ(Weight(InlierCounts{0, 0, 0}, 0.5, 0.4, 0.4, 0.2), 0.1);
+  // Occlusion-aware: 40 of the 100 rendered pixels are hidden, precision = 50 / 60.
+  const InlierCounts occ{50, 100, 200, 40};
+  EXPECT_DOUBLE_EQ(Weight(occ, 0.8, 0.5, 0.3, 0.2), 0.5 * 0.25 + 0.3 * 0.5 + 0.2 * 0.8);
+  EXPECT_DOUBLE_EQ(Weight(occ, 0.8, 0.5, 0.3, 0.2, true), 0.5 * 0.25 + 0.3 * 50.0 / 60.0 + 0.2 * 0.8);
 }
 
 }  // namespace
