@@ -33,10 +33,6 @@ int64_t FillTriangleScalar(const FixedTriangle& t, float* zbuf, int stride) {
   return covered;
 }
 
-namespace {
-
-}  // namespace
-
 void RasterizeDepthFixedPoint(std::span<const ScreenVertex> vertices,
                               std::span<const std::array<uint32_t, 3>> triangles,
                               const RasterParams& params, float* zbuf, RasterStats* stats, RowKernel rows) {
