@@ -19,7 +19,6 @@ struct BenchArgs {
 };
 
 nlohmann::json ObjectJson(const bench::BenchObject& r) {
-  const EngineCounters& c = r.counters;
   nlohmann::json j = {
       {"obj_id", r.obj_id},
       {"name", r.name},
@@ -46,14 +45,7 @@ nlohmann::json ObjectJson(const bench::BenchObject& r) {
       {"cdf_reads_per_draw_naive", r.cdf_reads_per_draw_naive},
       {"depth_bytes_read", r.depth_bytes_read},
       {"depth_bytes_read_naive", r.depth_bytes_read_naive},
-      {"cull",
-       {{"triangles_in", c.triangles_in},
-        {"backface", c.culled_backface},
-        {"degenerate", c.culled_degenerate},
-        {"outside_box", c.culled_outside_box},
-        {"near", c.culled_near},
-        {"between_pixels", c.culled_between_pixels},
-        {"rasterized", c.triangles_rasterized}}},
+      {"counters", CountersJson(r.counters)},
       {"per_iteration",
        {{"full_ms", r.iteration_ms},
         {"render_inlier_ms", r.score_ms},

@@ -30,7 +30,6 @@ nlohmann::json ObjectJson(const ObjectRecord& r) {
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) R.push_back(e.T_cam_obj.R(i, j));
   for (int i = 0; i < 3; ++i) t.push_back(e.T_cam_obj.t(i) * 1000.0);
-  const EngineCounters& c = e.counters;
   return {
       {"scene_id", r.key.scene_id},
       {"im_id", r.key.image_id},
@@ -48,23 +47,30 @@ nlohmann::json ObjectJson(const ObjectRecord& r) {
       {"t_mm", t},
       {"time_s", r.time_s},
       {"box_triangles", e.box_triangles},
-      {"counters",
-       {{"triangles_full", c.triangles_full},
-        {"triangles_in", c.triangles_in},
-        {"culled_backface", c.culled_backface},
-        {"culled_degenerate", c.culled_degenerate},
-        {"culled_outside_box", c.culled_outside_box},
-        {"culled_near", c.culled_near},
-        {"culled_between_pixels", c.culled_between_pixels},
-        {"triangles_rasterized", c.triangles_rasterized},
-        {"fragments", c.fragments},
-        {"cdf_draws", c.cdf_draws},
-        {"cdf_reads", c.cdf_reads},
-        {"cdf_reads_naive", c.cdf_reads_naive},
-        {"depth_bytes_read", c.depth_bytes_read},
-        {"depth_bytes_read_naive", c.depth_bytes_read_naive}}},
+      {"counters", CountersJson(e.counters)},
   };
 }
+
+}  // namespace
+
+nlohmann::json CountersJson(const EngineCounters& c) {
+  return {{"triangles_full", c.triangles_full},
+          {"triangles_in", c.triangles_in},
+          {"culled_backface", c.culled_backface},
+          {"culled_degenerate", c.culled_degenerate},
+          {"culled_outside_box", c.culled_outside_box},
+          {"culled_near", c.culled_near},
+          {"culled_between_pixels", c.culled_between_pixels},
+          {"triangles_rasterized", c.triangles_rasterized},
+          {"fragments", c.fragments},
+          {"cdf_draws", c.cdf_draws},
+          {"cdf_reads", c.cdf_reads},
+          {"cdf_reads_naive", c.cdf_reads_naive},
+          {"depth_bytes_read", c.depth_bytes_read},
+          {"depth_bytes_read_naive", c.depth_bytes_read_naive}};
+}
+
+namespace {
 
 Status RunEstimate(EstimateArgs& a) {
   // ---- Options ------------------------------------------------------------------------

@@ -4,6 +4,9 @@
 #include <string>
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "mcpose/estimator.h"
 
 #include "mcpose/status.h"
 
@@ -14,6 +17,9 @@ void AddEstimateCommand(CLI::App& app, Status* status);
 void AddDetectionsFromGtCommand(CLI::App& app, Status* status);
 void AddEvalCommand(CLI::App& app, Status* status);
 void AddBenchCommand(CLI::App& app, Status* status);
+
+// The engine counters of one object as JSON (estimate --out-json, bench --json).
+nlohmann::json CountersJson(const EngineCounters& counters);
 
 // Writes `text` to `path` through a temporary file and a rename: no partial file on error.
 Status WriteFileAtomically(const std::string& path, const std::string& text);

@@ -182,7 +182,7 @@ StatusOr<ObjectEstimate> Estimator::Estimate(const Intrinsics& K, const DepthIma
     result.final_mean_weight = mean;
     result.iterations = iter + 1;
     if (mean > opt.tau || iter + 1 == opt.max_iterations) {
-      result.iteration_ms.push_back(ms_since(iter_start));
+      result.iteration_ms.push_back(ms_since(iter_start));  // the last iteration: no resampling
       break;
     }
 
@@ -196,7 +196,7 @@ StatusOr<ObjectEstimate> Estimator::Estimate(const Intrinsics& K, const DepthIma
       Rng rng(opt.seed, stream_id, kStepStream + static_cast<uint64_t>(iter), static_cast<uint64_t>(i));
       const double u = rng.Uniform();
       const int parent = sampler.Draw(u, &reads);
-      sampler.DrawLinear(u, &reads_naive);
+      reads_naive += sampler.LinearSearchReads(u);
       filter::Diffuse(p.R_cam_obj[parent], p.t_cam_obj_m[parent], sigma_r, sigma_t, rng,
                       &next.R_cam_obj[i], &next.t_cam_obj_m[i]);
       next.box[i] = p.box[parent];

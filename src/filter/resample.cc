@@ -82,4 +82,11 @@ int CdfSampler::DrawLinear(double u, int64_t* reads) const {
   return i;
 }
 
+int64_t CdfSampler::LinearSearchReads(double u) const {
+  // DrawLinear stops at the first cdf > u, or at the last entry.
+  const auto it = std::upper_bound(cdf_unsorted_.begin(), cdf_unsorted_.end(), u);
+  const int64_t n = static_cast<int64_t>(cdf_unsorted_.size());
+  return std::min<int64_t>(it - cdf_unsorted_.begin(), n - 1) + 1;
+}
+
 }  // namespace mcpose::filter

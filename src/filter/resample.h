@@ -24,6 +24,9 @@ class CdfSampler {
   // Reference: linear search over the cumulative weights in the original index order (all
   // samples, top-fraction cut applied); same distribution, adds its reads to *reads.
   int DrawLinear(double u, int64_t* reads) const;
+  // The reads DrawLinear(u) would make, found by binary search (the cumulative weights are
+  // non-decreasing): the naive counter without paying for the naive search.
+  int64_t LinearSearchReads(double u) const;
 
   std::span<const int> sorted_indices() const { return order_; }
 

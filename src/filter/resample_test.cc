@@ -105,7 +105,16 @@ TEST(Resample, TableNeedsFarFewerReadsThanLinearSearch) {
   for (int i = 0; i < 10000; ++i) {
     const double u = rng.Uniform();
     s.Draw(u, &reads);
-    s.DrawLinear(u, &naive);
+    int64_t linear = 0;
+    s.DrawLinear(u, &linear);
+    ASSERT_EQ(s.LinearSearchReads(u), linear) << u;
+    naive += linear;
+  }
+  // The ends: u = 0 and u just below 1.
+  for (double u : {0.0, std::nextafter(1.0, 0.0)}) {
+    int64_t linear = 0;
+    s.DrawLinear(u, &linear);
+    EXPECT_EQ(s.LinearSearchReads(u), linear) << u;
   }
   EXPECT_LT(reads / 10000.0, 20.0);
   EXPECT_GT(naive / 10000.0, 200.0);

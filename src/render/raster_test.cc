@@ -9,6 +9,7 @@
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <hwy/targets.h>
 
 namespace mcpose::render {
 namespace {
@@ -153,11 +154,6 @@ TEST(Raster, BackfacesAreCulledAndNearPlaneTrianglesDropped) {
   EXPECT_EQ(stats.rasterized, 1);
 }
 
-}  // namespace
-}  // namespace mcpose::render
-
-namespace mcpose::render {
-namespace {
 
 // The fixed-point core against the float reference on random triangles: identical culling of
 // whole triangles except near-degenerate ones, coverage equal except for pixel centres within
@@ -216,11 +212,6 @@ TEST(RasterFixed, HugeAndOffscreenTrianglesFallBackToFloatPath) {
   EXPECT_EQ(b.triangles, 1);
 }
 
-}  // namespace
-}  // namespace mcpose::render
-
-namespace mcpose::render {
-namespace {
 
 // Both rasterizers write only inside CoverBound: a z-buffer pre-filled with a sentinel keeps
 // it everywhere outside the rect.
@@ -258,13 +249,6 @@ TEST(Raster, CoverBoundHoldsEveryWrittenPixel) {
   EXPECT_EQ(CoverBound(nan, Params(true).box).area(), Params(true).box.area());
 }
 
-}  // namespace
-}  // namespace mcpose::render
-
-#include <hwy/targets.h>
-
-namespace mcpose::render {
-namespace {
 
 // The Highway row kernel against the scalar one on every compiled target this CPU supports:
 // bit-identical z-buffers and statistics on random triangles, small and large.
