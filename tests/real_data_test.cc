@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "analysis/depth_ambiguity.h"
 #include "engine/initialize.h"
 #include "engine/pipeline.h"
 #include "engine/raster_cores.h"
@@ -176,6 +177,46 @@ TEST(RealData, EstimationOnTwoFramesMeetsAccuracyBound) {
   EXPECT_GE(eval->overall.add_s_lt_4cm, 0.6);
   for (const auto& e : eval->instances)
     std::printf("  obj %2d in %d/%d: ADD(-S) %.1f mm\n", e.obj_id, e.key.scene_id, e.key.image_id, 1000 * e.add_or_adds_m);
+}
+
+// Depth ambiguity on real frames: the tuna can turns about its axis without changing its depth
+// image (so ADD cannot be had from depth alone), the banana does not, and the bowl's turns are
+// all correct under ADD-S.
+TEST(RealData, DepthAmbiguityOfCanBananaAndBowl) {
+  auto ds = OpenYcbv();
+  ASSERT_TRUE(ds);
+  analysis::AmbiguityOptions options;
+  options.step_deg = 30;
+  struct Case {
+    FrameKey key;
+    int obj_id;
+    bool symmetric;
+  };
+  std::map<int, analysis::InstanceAmbiguity> got;
+  for (const Case& c : {Case{{49, 1}, 6, false}, Case{{2, 1}, 10, false}, Case{{49, 1}, 13, true}}) {
+    auto frame = ds->LoadFrame(c.key);
+    auto mesh = ds->LoadMesh(c.obj_id);
+    auto points = ds->LoadEvalPoints(c.obj_id);
+    ASSERT_TRUE(frame.ok() && mesh.ok() && points.ok());
+    for (const GtInstance& gt : frame->gt) {
+      if (gt.obj_id != c.obj_id) continue;
+      auto mask = ds->LoadVisibleMask(c.key, gt);
+      ASSERT_TRUE(mask.ok());
+      Detection box;
+      ASSERT_GT(MaskBox(*mask, &box), 0);
+      const render::PixelRect rect{int(box.x), int(box.y), int(box.x + box.w), int(box.y + box.h)};
+      got[c.obj_id] = analysis::AnalyzeInstance(frame->K, frame->depth, *mesh, *points, gt.T_cam_obj, rect,
+                                                c.symmetric, options);
+    }
+  }
+  ASSERT_EQ(got.size(), 3u);
+  EXPECT_EQ(got[6].equivalent, 12);  // every 30-degree turn about the can's axis
+  EXPECT_GT(got[6].ceiling, 0.2);
+  EXPECT_LT(got[6].ceiling, 0.6);
+  EXPECT_EQ(got[10].equivalent, 1);  // the banana: only itself
+  EXPECT_DOUBLE_EQ(got[10].ceiling, 1.0);
+  EXPECT_GE(got[13].equivalent, 12);  // the bowl turns about its axis, scored with ADD-S
+  EXPECT_DOUBLE_EQ(got[13].ceiling, 1.0);
 }
 
 }  // namespace

@@ -17,6 +17,7 @@ void AddEstimateCommand(CLI::App& app, Status* status);
 void AddDetectionsFromGtCommand(CLI::App& app, Status* status);
 void AddEvalCommand(CLI::App& app, Status* status);
 void AddBenchCommand(CLI::App& app, Status* status);
+void AddAmbiguityCommand(CLI::App& app, Status* status);
 
 // The engine counters of one object as JSON (estimate --out-json, bench --json).
 nlohmann::json CountersJson(const EngineCounters& counters);

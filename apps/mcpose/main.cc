@@ -55,6 +55,7 @@ int main(int argc, char** argv) {
   mcpose::cli::AddDetectionsFromGtCommand(app, &status);
   mcpose::cli::AddEvalCommand(app, &status);
   mcpose::cli::AddBenchCommand(app, &status);
+  mcpose::cli::AddAmbiguityCommand(app, &status);
   spdlog::set_pattern("[%H:%M:%S] %v");
   try {
     app.parse(argc, argv);
