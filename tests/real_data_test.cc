@@ -141,7 +141,8 @@ TEST(RealData, GroundTruthPoseScoresInTopOnePercentOfRandomSamples) {
       cores.Score(job, particles, counts, nullptr);
       std::vector<double> w;
       for (const auto& c : counts)
-        w.push_back(score::Weight(c, 1.0, options.weight_a, options.weight_b, options.weight_c));
+        w.push_back(score::Weight(c, 1.0, options.weight_a, options.weight_b, options.weight_c,
+                                  options.occlusion_aware));
       const double w_gt = w.back();
       const int better = static_cast<int>(std::count_if(w.begin(), w.end() - 1, [&](double x) { return x > w_gt; }));
       EXPECT_LE(better, static_cast<int>(0.01 * n)) << "obj " << gt.obj_id << " in " << key.scene_id << "/"
@@ -152,8 +153,13 @@ TEST(RealData, GroundTruthPoseScoresInTopOnePercentOfRandomSamples) {
   EXPECT_EQ(objects, 10);
 }
 
-// The whole estimator, default options, on two real frames with detector-like boxes:
-// ADD(-S) < 4 cm for at least 60% of their objects, as on the full set.
+// The whole estimator, default options, on two real frames with detector-like boxes (10% jitter,
+// 30% distractors). Every object's shape must be found: ADD-S < 4 cm. ADD(-S) < 4 cm must hold
+// for at least 60% of the objects whose pose the depth image determines: those all of whose
+// depth-equivalent turns (analysis/depth_ambiguity.h at the inlier tolerance, 1 cm on 90% of the
+// pixels) lie within 4 cm. The others (here the gelatin box, the sugar box, the tuna can and the
+// potted meat can, which flip or turn without changing their depth image) are a coin toss for
+// any depth-only estimator; the README reports them on the whole set.
 TEST(RealData, EstimationOnTwoFramesMeetsAccuracyBound) {
   auto ds = OpenYcbv();
   ASSERT_TRUE(ds);
@@ -174,9 +180,35 @@ TEST(RealData, EstimationOnTwoFramesMeetsAccuracyBound) {
   auto eval = Evaluate(*ds, report->results, &dets, EvalOptions{});
   ASSERT_TRUE(eval.ok()) << eval.status().ToString();
   EXPECT_EQ(eval->overall.instances, 7);
-  EXPECT_GE(eval->overall.add_s_lt_4cm, 0.6);
-  for (const auto& e : eval->instances)
-    std::printf("  obj %2d in %d/%d: ADD(-S) %.1f mm\n", e.obj_id, e.key.scene_id, e.key.image_id, 1000 * e.add_or_adds_m);
+
+  analysis::AmbiguityOptions ambiguity;
+  ambiguity.step_deg = 30;
+  ambiguity.agree_eps_m = 0.01;
+  ambiguity.min_agreement = 0.9;
+  int determined = 0, determined_ok = 0;
+  for (const auto& e : eval->instances) {
+    auto frame = ds->LoadFrame(e.key);
+    ASSERT_TRUE(frame.ok());
+    const GtInstance& gt = frame->gt[static_cast<size_t>(e.gt_index)];
+    auto mask = ds->LoadVisibleMask(e.key, gt);
+    auto mesh = ds->LoadMesh(e.obj_id);
+    auto points = ds->LoadEvalPoints(e.obj_id);
+    ASSERT_TRUE(mask.ok() && mesh.ok() && points.ok());
+    Detection box;
+    ASSERT_GT(MaskBox(*mask, &box), 0);
+    const render::PixelRect rect{int(box.x), int(box.y), int(box.x + box.w), int(box.y + box.h)};
+    const auto a = analysis::AnalyzeInstance(frame->K, frame->depth, *mesh, *points, gt.T_cam_obj, rect,
+                                             YcbvSymmetricObjectIds().count(e.obj_id) > 0, ambiguity);
+    const bool depth_determined = a.ceiling == 1.0;
+    determined += depth_determined;
+    determined_ok += depth_determined && e.add_or_adds_m < 0.04;
+    EXPECT_LT(e.adds_m, 0.04) << "obj " << e.obj_id << " in " << e.key.scene_id << "/" << e.key.image_id;
+    std::printf("  obj %2d in %d/%d: ADD(-S) %.1f mm, ADD-S %.1f mm, depth-equivalent turns %d, ceiling %.2f\n",
+                e.obj_id, e.key.scene_id, e.key.image_id, 1000 * e.add_or_adds_m, 1000 * e.adds_m, a.equivalent,
+                a.ceiling);
+  }
+  EXPECT_GE(determined, 3);  // the mug, the foam brick and the bowl
+  EXPECT_GE(determined_ok, 0.6 * determined) << determined_ok << " of " << determined;
 }
 
 // Depth ambiguity on real frames: the tuna can turns about its axis without changing its depth

@@ -161,7 +161,9 @@ void AddEstimateCommand(CLI::App& app, Status* status) {
   cmd->add_option("--seed", o.seed, "Random seed; same seed, same results at any thread count")->capture_default_str();
   cmd->add_option("--inlier", args->inlier, "Inlier test: 1d (|z_r - z_o| < eps) or 3d (nearest observed point)")->capture_default_str();
   cmd->add_option("--eps", o.eps_m, "Inlier threshold, metres")->capture_default_str();
-  cmd->add_option("--weights", args->weights, "Weight coefficients a b c (sum 1): w = a N/N_b + b N/N_r + c score")->expected(3);
+  cmd->add_option("--weights", args->weights, "Weight coefficients a b c (sum 1): w = a N/N_b + b N/N_r + c score (default " +
+                      std::to_string(o.weight_a).substr(0, 4) + " " + std::to_string(o.weight_b).substr(0, 4) + " " +
+                      std::to_string(o.weight_c).substr(0, 4) + ")")->expected(3);
   cmd->add_option("--keep-top", o.keep_top_fraction, "Resample from this best fraction of samples, (0, 1]")->capture_default_str();
   cmd->add_option("--cdf-table", o.cdf_table_size, "Entries of the coarse CDF threshold table")->capture_default_str();
   cmd->add_option("--sigma-t", o.sigma_t_m, "Diffusion: translation sigma at iteration 0, metres")->capture_default_str();
@@ -173,7 +175,8 @@ void AddEstimateCommand(CLI::App& app, Status* status) {
   cmd->add_option("--init-depth-quantile", o.init_depth_quantile, "Quantile of the box's valid depths for the initial distance")->capture_default_str();
   cmd->add_option("--engine", args->engine, "Raster core: scalar (float reference), fixed (1/16-pixel fixed point) or simd (fixed point, Highway rows)")->capture_default_str();
   cmd->add_option("--lod-px", o.lod_error_px, "Level of detail: coarsest simplified mesh within this error in pixels at the box depth; 0 = full mesh")->capture_default_str();
-  cmd->add_flag("--occlusion-aware", o.occlusion_aware, "Leave rendered pixels hidden behind observed surfaces out of N_r");
+  cmd->add_flag("--occlusion-aware,!--no-occlusion-aware", o.occlusion_aware,
+                "Leave rendered pixels hidden behind observed surfaces out of N_r (default on; --no-occlusion-aware: the paper's N_r)");
   cmd->add_flag("--no-backface-culling", args->no_culling, "Rasterize back faces too");
   cmd->add_flag("-q,--quiet", args->quiet, "No progress output");
   cmd->callback([args, status] { *status = RunEstimate(*args); });

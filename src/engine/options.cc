@@ -40,8 +40,6 @@ bool EstimatorOptions::IsValid(std::string* error) const {
   if (!(anneal > 0 && anneal <= 1)) return Fail(error, "anneal must lie in (0, 1]");
   if (!(std::isfinite(lod_error_px) && lod_error_px >= 0))
     return Fail(error, "lod_error_px must be finite and >= 0 (0 = full mesh)");
-  if (occlusion_aware && inlier_mode == InlierMode::k3D)
-    return Fail(error, "occlusion_aware needs the 1d inlier test");
   if (threads < 0) return Fail(error, "threads must be >= 0 (0 = all hardware threads)");
   return true;
 }

@@ -108,8 +108,11 @@ void RasterCores::Score(const ScoreJob& job, const filter::ParticleSet& particle
 
       // Compare with the observed depth of the box.
       if (job.inlier_mode == InlierMode::k1D) {
-        counts[i] = score::CountInliers1DInRect(s.zbuf.data(), box.observed.data(), stride, rel,
-                                                box.n_observed, job.eps_m);
+        counts[i] = backend_ == RasterBackend::kSimd
+                        ? score::CountInliers1DInRectSimd(s.zbuf.data(), box.observed.data(), stride, rel,
+                                                          box.n_observed, job.eps_m)
+                        : score::CountInliers1DInRect(s.zbuf.data(), box.observed.data(), stride, rel,
+                                                      box.n_observed, job.eps_m);
       } else {
         counts[i] = box.cloud->CountInliers3D(
             std::span<const float>(s.zbuf.data(), static_cast<size_t>(box.rect.area())), job.eps_m);

@@ -63,6 +63,7 @@ struct ObservedCloud::Impl {
   Intrinsics K;
   render::PixelRect box;
   Points points;
+  std::vector<float> depth;  // the box's observed depth, for the occlusion count
   int32_t observed = 0;
   std::unique_ptr<Tree> tree;
 
@@ -76,6 +77,7 @@ ObservedCloud::ObservedCloud(const Intrinsics& K, const render::PixelRect& box,
     : impl_(std::make_unique<Impl>()) {
   impl_->K = K;
   impl_->box = box;
+  impl_->depth.assign(observed.begin(), observed.end());
   for (int y = box.y0; y < box.y1; ++y) {
     for (int x = box.x0; x < box.x1; ++x) {
       const float z = observed[(y - box.y0) * box.width() + (x - box.x0)];
@@ -106,7 +108,10 @@ InlierCounts ObservedCloud::CountInliers3D(std::span<const float> rendered, floa
       uint32_t index = 0;
       float dist2 = 0.f;
       impl_->tree->knnSearch(p.data(), 1, &index, &dist2);
-      c.inliers += dist2 < eps_m * eps_m;
+      const bool inlier = dist2 < eps_m * eps_m;
+      const float zo = impl_->depth[(y - box.y0) * box.width() + (x - box.x0)];
+      c.inliers += inlier;
+      c.occluded += !inlier && zo > 0.f && zo <= z - eps_m;
     }
   }
   return c;

@@ -18,7 +18,7 @@ struct InlierCounts {
   int32_t inliers = 0;   // N
   int32_t rendered = 0;  // N_r
   int32_t observed = 0;  // N_b
-  int32_t occluded = 0;  // rendered pixels whose observed depth lies in front by >= eps (1-D only)
+  int32_t occluded = 0;  // rendered non-inlier pixels whose observed depth lies in front by >= eps
   bool operator==(const InlierCounts&) const = default;
 };
 
@@ -35,6 +35,11 @@ InlierCounts CountInliers1D(std::span<const float> rendered, std::span<const flo
 // N_b given (it does not depend on the hypothesis). `rendered` outside `rect` is not read.
 InlierCounts CountInliers1DInRect(const float* rendered, const float* observed, int stride,
                                   const render::PixelRect& rect, int32_t n_observed, float eps_m);
+
+// CountInliers1DInRect a vector of pixels at a time (Highway: AVX-512, AVX2, SSE4 or scalar,
+// chosen at run time); the same counts (inlier_simd.cc, tested on every target).
+InlierCounts CountInliers1DInRectSimd(const float* rendered, const float* observed, int stride,
+                                      const render::PixelRect& rect, int32_t n_observed, float eps_m);
 
 // w = a * N / N_b + b * N / N_r + c * score; a term with a zero denominator is 0. With
 // `occlusion_aware`, rendered pixels hidden behind observed surfaces do not count against the

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <hwy/targets.h>
 
 namespace mcpose::score {
 namespace {
@@ -63,11 +64,39 @@ TEST(Inlier, RectCountsMatchWholeBoxWhenNothingIsRenderedOutside) {
   }
 }
 
+TEST(Inlier, SimdRectCountsEqualTheScalarReferenceOnEveryTarget) {
+  for (int64_t target : hwy::SupportedAndGeneratedTargets()) {
+    hwy::SetSupportedTargetsForTest(target);
+    std::mt19937_64 gen(11);
+    for (int trial = 0; trial < 50; ++trial) {
+      Buffers b = RandomBuffers(gen);
+      const int w = b.box.width(), h = b.box.height();
+      // Depths exactly eps apart and exactly equal: the comparisons' edge cases.
+      for (int i = 0; i < w * h; i += 7)
+        if (b.observed[i] > 0) b.rendered[i] = b.observed[i] + (i % 2 ? 0.01f : 0.f);
+      std::uniform_int_distribution<int> ux(0, w), uy(0, h);
+      int x0 = ux(gen), x1 = ux(gen), y0 = uy(gen), y1 = uy(gen);
+      if (x0 > x1) std::swap(x0, x1);
+      if (y0 > y1) std::swap(y0, y1);
+      const render::PixelRect rect{x0, y0, x1, y1};
+      const int32_t n_obs = CountObserved(b.observed);
+      EXPECT_EQ(CountInliers1DInRectSimd(b.rendered.data(), b.observed.data(), w, rect, n_obs, 0.01f),
+                CountInliers1DInRect(b.rendered.data(), b.observed.data(), w, rect, n_obs, 0.01f))
+          << hwy::TargetName(target) << " trial " << trial;
+    }
+  }
+  hwy::SetSupportedTargetsForTest(0);
+}
+
 TEST(Inlier, ThreeDimensionalCountsMatchBruteForce) {
   std::mt19937_64 gen(6);
   Intrinsics K{1066.778, 1067.487, 312.9869, 241.3109, 640, 480};
   for (int trial = 0; trial < 5; ++trial) {
-    const Buffers b = RandomBuffers(gen);
+    Buffers b = RandomBuffers(gen);
+    // A fifth of the rendered pixels 0.5 m behind every observed point: hidden, not inliers.
+    std::uniform_real_distribution<float> u(0.f, 1.f);
+    for (float& z : b.rendered)
+      if (!std::isinf(z) && u(gen) < 0.2f) z += 0.5f;
     const float eps = 0.01f;
     ObservedCloud cloud(K, b.box, b.observed);
     auto back = [&](int i, float z) {
@@ -84,8 +113,11 @@ TEST(Inlier, ThreeDimensionalCountsMatchBruteForce) {
       for (size_t j = 0; j < b.observed.size() && !hit; ++j)
         hit = b.observed[j] > 0 && (back(j, b.observed[j]) - p).squaredNorm() < eps * eps;
       naive.inliers += hit;
+      // Not a 3-D inlier, and the observed surface at this pixel is in front by >= eps.
+      naive.occluded += !hit && b.observed[i] > 0 && b.observed[i] <= b.rendered[i] - eps;
     }
     EXPECT_EQ(cloud.CountInliers3D(b.rendered, eps), naive);
+    EXPECT_GT(naive.occluded, 0);
   }
 }
 

@@ -1,0 +1,72 @@
+// The SIMD inlier counter: CountInliers1DInRect (inlier.cc) a vector of pixels at a time with
+// Highway, compiled for every target Highway knows here and dispatched at run time. The scalar
+// CountInliers1DInRect is its reference; the same float operations give the same counts.
+#include <cmath>
+#include <cstdint>
+
+#include "score/inlier.h"
+
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "score/inlier_simd.cc"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+#include <hwy/highway.h>
+
+HWY_BEFORE_NAMESPACE();
+namespace mcpose::score {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+void CountRect(const float* rendered, const float* observed, int stride, int x0, int y0, int x1, int y1,
+               float eps_m, int64_t* out) {
+  const hn::ScalableTag<float> df;
+  const int lanes = static_cast<int>(hn::Lanes(df));
+  const auto inf = hn::Set(df, INFINITY);
+  const auto zero = hn::Zero(df);
+  const auto eps = hn::Set(df, eps_m);
+  int64_t drawn = 0, inliers = 0, occluded = 0;
+  for (int y = y0; y < y1; ++y) {
+    const float* zr = rendered + static_cast<size_t>(y) * stride;
+    const float* zo = observed + static_cast<size_t>(y) * stride;
+    int x = x0;
+    for (; x + lanes <= x1; x += lanes) {
+      const auto r = hn::LoadU(df, zr + x);
+      const auto o = hn::LoadU(df, zo + x);
+      const auto d = hn::Ne(r, inf);
+      const auto dv = hn::And(d, hn::Gt(o, zero));
+      drawn += static_cast<int64_t>(hn::CountTrue(df, d));
+      inliers += static_cast<int64_t>(hn::CountTrue(df, hn::And(dv, hn::Lt(hn::Abs(hn::Sub(r, o)), eps))));
+      occluded += static_cast<int64_t>(hn::CountTrue(df, hn::And(dv, hn::Le(o, hn::Sub(r, eps)))));
+    }
+    for (; x < x1; ++x) {  // the row's tail, as the reference does it
+      const bool d = zr[x] != INFINITY, valid = zo[x] > 0.f;
+      drawn += d;
+      inliers += d & valid & (std::fabs(zr[x] - zo[x]) < eps_m);
+      occluded += d & valid & (zo[x] <= zr[x] - eps_m);
+    }
+  }
+  out[0] = drawn, out[1] = inliers, out[2] = occluded;
+}
+
+}  // namespace HWY_NAMESPACE
+}  // namespace mcpose::score
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace mcpose::score {
+
+HWY_EXPORT(CountRect);
+
+InlierCounts CountInliers1DInRectSimd(const float* rendered, const float* observed, int stride,
+                                      const render::PixelRect& rect, int32_t n_observed, float eps_m) {
+  int64_t n[3];
+  HWY_DYNAMIC_DISPATCH(CountRect)(rendered, observed, stride, rect.x0, rect.y0, rect.x1, rect.y1, eps_m, n);
+  InlierCounts c;
+  c.observed = n_observed;
+  c.rendered = static_cast<int32_t>(n[0]);
+  c.inliers = static_cast<int32_t>(n[1]);
+  c.occluded = static_cast<int32_t>(n[2]);
+  return c;
+}
+
+}  // namespace mcpose::score
+#endif  // HWY_ONCE
