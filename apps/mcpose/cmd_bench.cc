@@ -84,8 +84,9 @@ Status RunBenchCommand(BenchArgs& a) {
   MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<Dataset> dataset, Dataset::Open(a.dataset, a.split));
 
   const std::string machine = bench::MachineDescription();
-  std::printf("machine: %s\nengine %s, LOD %.2f px, %d samples, %d iterations, threads %d\n", machine.c_str(),
-              RasterBackendName(o.backend), o.lod_error_px, o.samples, a.options.iterations, o.threads);
+  std::printf("machine: %s\nengine %s, LOD %.2f px, pixel stride %d, %d samples, %d iterations, threads %d\n",
+              machine.c_str(), RasterBackendName(o.backend), o.lod_error_px, o.pixel_stride, o.samples,
+              a.options.iterations, o.threads);
   std::printf("%-20s %6s %5s %8s %9s | %8s %17s | %8s %17s %9s | %s\n", "object", "tris", "lod", "culled",
               "frags/it", "r+i ms", "(min-max)", "full ms", "(min-max)", "hyp/s", "baselines (ms, x, inlier diff)");
   auto progress = [](const bench::BenchObject& r) {
@@ -119,6 +120,7 @@ Status RunBenchCommand(BenchArgs& a) {
                           {"options",
                            {{"engine", RasterBackendName(o.backend)},
                             {"lod_px", o.lod_error_px},
+                            {"pixel_stride", o.pixel_stride},
                             {"samples", o.samples},
                             {"iterations", a.options.iterations},
                             {"render_repeats", a.options.render_repeats},
@@ -146,6 +148,7 @@ void AddBenchCommand(CLI::App& app, Status* status) {
   cmd->add_option("--threads", o.threads, "Raster cores (worker threads); 0 = all hardware threads")->capture_default_str();
   cmd->add_option("--engine", args->engine, "Raster core: scalar, fixed or simd")->capture_default_str();
   cmd->add_option("--lod-px", o.lod_error_px, "Level-of-detail budget in pixels; 0 = full mesh")->capture_default_str();
+  cmd->add_option("--pixel-stride", o.pixel_stride, "Score every s-th pixel in x and y of each box")->capture_default_str();
   cmd->add_option("--seed", o.seed, "Random seed")->capture_default_str();
   cmd->add_option("--baselines", args->baselines, "Comma-separated: embree,osmesa (same hypotheses, same boxes)");
   cmd->add_option("--json", args->json, "Write {machine, options, objects: [...]} here");

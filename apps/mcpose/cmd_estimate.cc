@@ -17,7 +17,7 @@ namespace {
 struct EstimateArgs {
   std::string dataset, split = "test", detections, out, out_json;
   std::string inlier = "1d";
-  std::string engine = "scalar";
+  std::string engine = RasterBackendName(EstimatorOptions{}.backend);
   std::vector<double> weights;
   bool no_culling = false;
   bool quiet = false;
@@ -126,6 +126,7 @@ Status RunEstimate(EstimateArgs& a) {
                             {"engine", RasterBackendName(o.backend)},
                             {"lod_px", o.lod_error_px},
                             {"occlusion_aware", o.occlusion_aware},
+                            {"pixel_stride", o.pixel_stride},
                             {"threads", o.threads}}},
                           {"objects", objects}};
     MCPOSE_RETURN_IF_ERROR(WriteFileAtomically(a.out_json, doc.dump(1) + "\n"));
@@ -174,6 +175,7 @@ void AddEstimateCommand(CLI::App& app, Status* status) {
   cmd->add_option("--init-sigma-t", o.init_sigma_t_m, "Initial translation jitter, metres")->capture_default_str();
   cmd->add_option("--init-depth-quantile", o.init_depth_quantile, "Quantile of the box's valid depths for the initial distance")->capture_default_str();
   cmd->add_option("--engine", args->engine, "Raster core: scalar (float reference), fixed (1/16-pixel fixed point) or simd (fixed point, Highway rows)")->capture_default_str();
+  cmd->add_option("--pixel-stride", o.pixel_stride, "Score every s-th pixel in x and y of each box; 1 = every pixel")->capture_default_str();
   cmd->add_option("--lod-px", o.lod_error_px, "Level of detail: coarsest simplified mesh within this error in pixels at the box depth; 0 = full mesh")->capture_default_str();
   cmd->add_flag("--occlusion-aware,!--no-occlusion-aware", o.occlusion_aware,
                 "Leave rendered pixels hidden behind observed surfaces out of N_r (default on; --no-occlusion-aware: the paper's N_r)");

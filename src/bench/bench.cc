@@ -136,7 +136,7 @@ StatusOr<std::vector<BenchObject>> RunBench(const Dataset& ds, const BenchOption
     std::vector<engine::BoxDepth> boxes;
     boxes.push_back(engine::DistributeDepth(frame.depth, K, engine::ClipBox(r.box.x, r.box.y, r.box.w, r.box.h,
                                                                             K.width, K.height),
-                                            1.0, InlierMode::k1D));
+                                            1.0, InlierMode::k1D, eo.pixel_stride));
     filter::ParticleSet particles;
     engine::InitializeSamples(K, mesh, std::span(&r.box, 1), boxes, eo, GroupStreamId(r.frame.scene_id, r.frame.image_id, obj_id),
                               &particles);
@@ -161,8 +161,10 @@ StatusOr<std::vector<BenchObject>> RunBench(const Dataset& ds, const BenchOption
     for (const auto& cnt : counts) r.mcpose_inliers_total += cnt.inliers;
 
     render::RasterParams params;
-    params.fx = static_cast<float>(K.fx), params.fy = static_cast<float>(K.fy);
-    params.cx = static_cast<float>(K.cx), params.cy = static_cast<float>(K.cy);
+    // The box's sample grid (every pixel at stride 1): the baselines cast the same rays.
+    const Intrinsics& Kg = boxes[0].K_grid;
+    params.fx = static_cast<float>(Kg.fx), params.fy = static_cast<float>(Kg.fy);
+    params.cx = static_cast<float>(Kg.cx), params.cy = static_cast<float>(Kg.cy);
     params.box = boxes[0].rect;
     params.cull_backfaces = eo.backface_culling;
     for (const std::string& name : options.baselines) {

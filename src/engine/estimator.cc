@@ -94,7 +94,8 @@ StatusOr<ObjectEstimate> Estimator::Estimate(const Intrinsics& K, const DepthIma
   std::vector<engine::BoxDepth> box_depth;
   for (const Detection& d : boxes) {
     box_depth.push_back(engine::DistributeDepth(
-        depth, K, engine::ClipBox(d.x, d.y, d.w, d.h, K.width, K.height), d.score, opt.inlier_mode));
+        depth, K, engine::ClipBox(d.x, d.y, d.w, d.h, K.width, K.height), d.score, opt.inlier_mode,
+        opt.pixel_stride));
   }
 
   // ---- Initialize: samples over boxes in proportion to score -----------------------------
@@ -158,10 +159,10 @@ StatusOr<ObjectEstimate> Estimator::Estimate(const Intrinsics& K, const DepthIma
       box_used[p.box[i]] = 1;
       counters.depth_bytes_read_naive += box_depth[p.box[i]].rect.area() * int64_t{sizeof(float)};
     }
-    std::vector<render::PixelRect> used_rects;
+    std::vector<const engine::BoxDepth*> used;
     for (size_t b = 0; b < boxes.size(); ++b)
-      if (box_used[b]) used_rects.push_back(box_depth[b].rect);
-    const int64_t depth_bytes = engine::UnionArea(used_rects) * int64_t{sizeof(float)};
+      if (box_used[b]) used.push_back(&box_depth[b]);
+    const int64_t depth_bytes = engine::UnionSamples(used) * int64_t{sizeof(float)};
     counters.depth_bytes_read += depth_bytes;
     result.depth_bytes_per_iteration.push_back(depth_bytes);
 

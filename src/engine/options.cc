@@ -40,6 +40,8 @@ bool EstimatorOptions::IsValid(std::string* error) const {
   if (!(anneal > 0 && anneal <= 1)) return Fail(error, "anneal must lie in (0, 1]");
   if (!(std::isfinite(lod_error_px) && lod_error_px >= 0))
     return Fail(error, "lod_error_px must be finite and >= 0 (0 = full mesh)");
+  if (pixel_stride < 1 || pixel_stride > 16)
+    return Fail(error, "pixel_stride must lie in [1, 16], got " + std::to_string(pixel_stride));
   if (threads < 0) return Fail(error, "threads must be >= 0 (0 = all hardware threads)");
   return true;
 }

@@ -21,30 +21,45 @@ render::PixelRect ClipBox(double x, double y, double w, double h, int width, int
 }
 
 BoxDepth DistributeDepth(const DepthImage& depth, const Intrinsics& K, const render::PixelRect& rect,
-                         double score, InlierMode mode) {
+                         double score, InlierMode mode, int stride) {
+  MCPOSE_CHECK_GE(stride, 1);
   BoxDepth b;
-  b.rect = rect;
+  b.image_rect = rect;
+  b.stride = stride;
+  const int gw = (rect.width() + stride - 1) / stride, gh = (rect.height() + stride - 1) / stride;
+  b.rect = render::PixelRect{rect.x0, rect.y0, rect.x0 + gw, rect.y0 + gh};
+  // Grid coordinate u_g = x0 + (u - x0) / s: the same projection, scaled about the box corner.
+  b.K_grid = K;
+  b.K_grid.fx = K.fx / stride;
+  b.K_grid.fy = K.fy / stride;
+  b.K_grid.cx = rect.x0 + (K.cx - rect.x0) / stride;
+  b.K_grid.cy = rect.y0 + (K.cy - rect.y0) / stride;
   b.score = score;
-  b.observed.resize(static_cast<size_t>(rect.area()));
-  for (int y = rect.y0; y < rect.y1; ++y) {
-    const float* src = depth.depth_m.data() + static_cast<size_t>(y) * depth.width + rect.x0;
-    std::copy(src, src + rect.width(), b.observed.data() + static_cast<size_t>(y - rect.y0) * rect.width());
+  b.observed.resize(static_cast<size_t>(b.rect.area()));
+  for (int j = 0; j < gh; ++j) {
+    const float* src = depth.depth_m.data() + static_cast<size_t>(rect.y0 + j * stride) * depth.width + rect.x0;
+    float* dst = b.observed.data() + static_cast<size_t>(j) * gw;
+    for (int i = 0; i < gw; ++i) dst[i] = src[static_cast<size_t>(i) * stride];
   }
   b.n_observed = score::CountObserved(b.observed);
-  if (mode == InlierMode::k3D) b.cloud = std::make_unique<score::ObservedCloud>(K, rect, b.observed);
+  if (mode == InlierMode::k3D) b.cloud = std::make_unique<score::ObservedCloud>(b.K_grid, b.rect, b.observed);
   return b;
 }
 
-int64_t UnionArea(std::span<const render::PixelRect> rects) {
-  if (rects.empty()) return 0;
-  int x0 = rects[0].x0, y0 = rects[0].y0, x1 = rects[0].x1, y1 = rects[0].y1;
-  for (const auto& r : rects) {
-    x0 = std::min(x0, r.x0), y0 = std::min(y0, r.y0), x1 = std::max(x1, r.x1), y1 = std::max(y1, r.y1);
+int64_t UnionSamples(std::span<const BoxDepth* const> boxes) {
+  if (boxes.empty()) return 0;
+  render::PixelRect u = boxes[0]->image_rect;
+  for (const BoxDepth* b : boxes) {
+    const auto& r = b->image_rect;
+    u.x0 = std::min(u.x0, r.x0), u.y0 = std::min(u.y0, r.y0), u.x1 = std::max(u.x1, r.x1), u.y1 = std::max(u.y1, r.y1);
   }
-  const int w = x1 - x0;
-  std::vector<char> covered(static_cast<size_t>(w) * (y1 - y0), 0);
-  for (const auto& r : rects)
-    for (int y = r.y0; y < r.y1; ++y) std::fill_n(covered.begin() + (y - y0) * w + (r.x0 - x0), r.width(), 1);
+  const int w = u.width();
+  std::vector<char> covered(static_cast<size_t>(u.area()), 0);
+  for (const BoxDepth* b : boxes) {
+    const auto& r = b->image_rect;
+    for (int y = r.y0; y < r.y1; y += b->stride)
+      for (int x = r.x0; x < r.x1; x += b->stride) covered[static_cast<size_t>(y - u.y0) * w + (x - u.x0)] = 1;
+  }
   return std::count(covered.begin(), covered.end(), 1);
 }
 
@@ -70,10 +85,10 @@ void RasterCores::Score(const ScoreJob& job, const filter::ParticleSet& particle
       const Mesh& mesh = job.box_mesh.empty() ? *job.mesh : *job.box_mesh[particles.box[i]];
       const std::span<render::ScreenVertex> vertices(s.vertices.data(), mesh.vertices_m.size());
       render::RasterParams params;
-      params.fx = static_cast<float>(job.K.fx);
-      params.fy = static_cast<float>(job.K.fy);
-      params.cx = static_cast<float>(job.K.cx);
-      params.cy = static_cast<float>(job.K.cy);
+      params.fx = static_cast<float>(box.K_grid.fx);
+      params.fy = static_cast<float>(box.K_grid.fy);
+      params.cx = static_cast<float>(box.K_grid.cx);
+      params.cy = static_cast<float>(box.K_grid.cy);
       params.box = box.rect;
       params.cull_backfaces = job.cull_backfaces;
 

@@ -20,8 +20,16 @@ namespace mcpose::engine {
 
 // One box's observed depth, cut out of the frame once by the depth distributor and shared by
 // every core and every iteration.
+//
+// Pixel stride s: the box is scored on a grid of every s-th image pixel in x and y, starting at
+// its top-left pixel. The raster cores render into that grid as into a smaller image, through
+// `K_grid`, whose pixel (x0 + i, y0 + j) is centred on image pixel (x0 + s i, y0 + s j): the
+// same rays, s^2 times fewer of them. At s = 1, rect = image_rect and K_grid = the camera.
 struct BoxDepth {
-  render::PixelRect rect;
+  render::PixelRect rect;        // the raster rect, grid pixels
+  render::PixelRect image_rect;  // the box in image pixels
+  int stride = 1;
+  Intrinsics K_grid;             // projection onto the grid (fx / s, fy / s, shifted centre)
   std::vector<float> observed;  // rect-sized, metres, 0 = invalid
   int32_t n_observed = 0;       // N_b
   double score = 0;             // detector confidence
@@ -32,17 +40,18 @@ struct BoxDepth {
 // pixels. Returns an empty rect if nothing of it lies in the image.
 render::PixelRect ClipBox(double x, double y, double w, double h, int width, int height);
 
-// Builds the BoxDepth of `rect` (rect must lie inside the image).
+// Builds the BoxDepth of `rect` (image pixels, inside the image) at pixel stride `stride` >= 1.
 BoxDepth DistributeDepth(const DepthImage& depth, const Intrinsics& K, const render::PixelRect& rect,
-                         double score, InlierMode mode);
+                         double score, InlierMode mode, int stride = 1);
 
-// Pixels covered by the union of the given rects (for the distributor's byte count).
-int64_t UnionArea(std::span<const render::PixelRect> rects);
+// Distinct image pixels read by the depth distributor for these boxes: the union of their
+// sample grids (at stride 1, the union of their rects).
+int64_t UnionSamples(std::span<const BoxDepth* const> boxes);
 
 struct ScoreJob {
   const Mesh* mesh = nullptr;            // the full mesh
   std::span<const Mesh* const> box_mesh; // optional: the mesh (LOD level) each box renders
-  Intrinsics K;
+  Intrinsics K;                          // the camera (each box renders through its K_grid)
   std::span<const BoxDepth> boxes;
   InlierMode inlier_mode = InlierMode::k1D;
   float eps_m = 0.01f;
