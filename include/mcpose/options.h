@@ -79,8 +79,10 @@ struct EstimatorOptions {
   // (render/lod.h). 0 = always the full mesh.
   double lod_error_px = 1.0;
   // Pixel stride: score each box on every pixel_stride-th pixel in x and y (the same rays,
-  // pixel_stride^2 times fewer; engine/raster_cores.h). 1 = every pixel, as the paper.
-  int pixel_stride = 1;
+  // pixel_stride^2 times fewer; engine/raster_cores.h); the LOD budget is in these raster
+  // pixels. 1 = every pixel, as the paper. 2 halves the iteration time with the same accuracy
+  // on the 108 real instances within the seed-to-seed spread (README, accuracy).
+  int pixel_stride = 2;
   int threads = 0;                 // raster cores (worker threads); 0 = hardware threads
 
   bool IsValid(std::string* error) const;

@@ -24,7 +24,8 @@ double InitialDepth(const Intrinsics& K, const Mesh& mesh, const Detection& d, c
                     double depth_quantile);
 
 // The LOD level box `d` renders: the coarsest level of `lod` whose error is at most
-// options.lod_error_px pixels at the box's initial depth (0 when LOD is off).
+// options.lod_error_px raster pixels at the box's initial depth (0 when LOD is off). A raster
+// pixel is box.stride image pixels wide: at pixel stride 2 the budget is 2 image pixels.
 int SelectLodLevel(const render::LodChain& lod, const Intrinsics& K, const Mesh& mesh, const Detection& d,
                    const BoxDepth& box, const EstimatorOptions& options);
 
