@@ -1,7 +1,9 @@
 // Micro-benchmarks of the engine's stages on real YCB-Video frames (ground-truth boxes, samples
 // drawn as the estimator draws them):
 //   BM_ScoreIteration  render + inlier counting of one iteration, grid {object, engine, LOD,
-//                      threads, samples}
+//                      threads, samples, pixel stride}
+//   BM_TriangleSetup   fixed-point triangle setup alone (snap, cull, edge functions, 1/z plane)
+//                      over the LOD mesh of every sample, grid {object, threads, samples}
 //   BM_Resample        sort + threshold table + N draws (the paper's resampler), grid {samples}
 //   build/mcpose_benchmarks --benchmark_filter=ScoreIteration
 #include <cstdlib>
@@ -11,10 +13,12 @@
 
 #include <benchmark/benchmark.h>
 
+#include "core/parallel_for.h"
 #include "engine/initialize.h"
 #include "engine/raster_cores.h"
 #include "filter/resample.h"
 #include "render/lod.h"
+#include "render/raster_fixed.h"
 #include "mcpose/dataset.h"
 #include "mcpose/eval.h"
 
@@ -36,10 +40,10 @@ struct Workload {
   const Mesh* lod_mesh = nullptr;  // the level a 1-pixel budget picks for this box
 };
 
-// One object of one real frame, boxed by its visible mask.
-const Workload& GetWorkload(FrameKey key, int obj_id, int samples) {
-  static std::map<std::tuple<FrameKey, int, int>, std::unique_ptr<Workload>> cache;
-  auto& slot = cache[{key, obj_id, samples}];
+// One object of one real frame, boxed by its visible mask, scored at a pixel stride.
+const Workload& GetWorkload(FrameKey key, int obj_id, int samples, int stride = 1) {
+  static std::map<std::tuple<FrameKey, int, int, int>, std::unique_ptr<Workload>> cache;
+  auto& slot = cache[{key, obj_id, samples, stride}];
   if (slot) return *slot;
   auto ds = Dataset::Open(DataDir() + "/ycbv");
   if (!ds.ok()) std::abort();
@@ -55,7 +59,7 @@ const Workload& GetWorkload(FrameKey key, int obj_id, int samples) {
   w->boxes.push_back(engine::DistributeDepth(
       w->frame.depth, w->frame.K,
       engine::ClipBox(w->det.x, w->det.y, w->det.w, w->det.h, w->frame.K.width, w->frame.K.height), 1.0,
-      InlierMode::k1D));
+      InlierMode::k1D, stride));
   EstimatorOptions options;
   options.samples = samples;
   options.lod_error_px = 1.0;
@@ -71,10 +75,10 @@ constexpr std::pair<FrameKey, int> kObjects[] = {
     {{1, 1}, 2}, {{3, 138}, 4}, {{1, 1}, 5}, {{2, 1}, 9}, {{2, 1}, 10}};
 
 // Args: object index, engine (0 scalar, 1 fixed, 2 simd), LOD (0 full mesh, 1 one pixel),
-// threads, samples.
+// threads, samples, pixel stride.
 void BM_ScoreIteration(benchmark::State& state) {
   const auto& [key, obj_id] = kObjects[state.range(0)];
-  const Workload& w = GetWorkload(key, obj_id, static_cast<int>(state.range(4)));
+  const Workload& w = GetWorkload(key, obj_id, static_cast<int>(state.range(4)), static_cast<int>(state.range(5)));
   const RasterBackend backends[] = {RasterBackend::kScalar, RasterBackend::kFixedPoint, RasterBackend::kSimd};
   const auto backend = backends[state.range(1)];
   engine::RasterCores cores(static_cast<int>(state.range(3)), backend);
@@ -91,23 +95,76 @@ void BM_ScoreIteration(benchmark::State& state) {
     benchmark::DoNotOptimize(counts.data());
   }
   state.SetLabel("obj " + std::to_string(obj_id) + " " + RasterBackendName(backend) +
-                 (state.range(2) ? " lod" : " full"));
+                 (state.range(2) ? " lod" : " full") + " stride " + std::to_string(state.range(5)));
   state.counters["hypotheses_per_s"] =
       benchmark::Counter(static_cast<double>(w.particles.size()), benchmark::Counter::kIsIterationInvariantRate);
   state.counters["fragments_per_iter"] = static_cast<double>(stats.fragments) / state.iterations();
 }
 
-// Engines x LOD at the paper's 620 samples, 1 and 2 threads.
+// Engines x LOD at the paper's 620 samples, 1 and 2 threads, every pixel.
 BENCHMARK(BM_ScoreIteration)
-    ->ArgNames({"object", "engine", "lod", "threads", "samples"})
-    ->ArgsProduct({{0, 1, 2, 3, 4}, {0, 1, 2}, {0, 1}, {1, 2}, {620}})
+    ->ArgNames({"object", "engine", "lod", "threads", "samples", "stride"})
+    ->ArgsProduct({{0, 1, 2, 3, 4}, {0, 1, 2}, {0, 1}, {1, 2}, {620}, {1}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->MinTime(0.5);
-// The fast engine over {samples, threads}.
+// The fast engine over {samples, threads, pixel stride}.
 BENCHMARK(BM_ScoreIteration)
-    ->ArgNames({"object", "engine", "lod", "threads", "samples"})
-    ->ArgsProduct({{2}, {2}, {1}, {1, 2}, {155, 620, 2480}})
+    ->ArgNames({"object", "engine", "lod", "threads", "samples", "stride"})
+    ->ArgsProduct({{2}, {2}, {1}, {1, 2}, {155, 620, 2480}, {1, 2}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MinTime(0.5);
+
+// Triangle setup alone: every triangle of the 1-pixel LOD mesh of every sample (vertices
+// projected beforehand), SetupFixedTriangle and nothing else. Args: object index, threads,
+// samples.
+void BM_TriangleSetup(benchmark::State& state) {
+  const auto& [key, obj_id] = kObjects[state.range(0)];
+  const Workload& w = GetWorkload(key, obj_id, static_cast<int>(state.range(2)));
+  const Mesh& mesh = *w.lod_mesh;
+  render::RasterParams p;
+  p.fx = static_cast<float>(w.frame.K.fx), p.fy = static_cast<float>(w.frame.K.fy);
+  p.cx = static_cast<float>(w.frame.K.cx), p.cy = static_cast<float>(w.frame.K.cy);
+  p.box = w.boxes[0].rect;
+  const size_t n = w.particles.size(), nv = mesh.vertices_m.size();
+  std::vector<render::ScreenVertex> projected(n * nv);
+  for (size_t i = 0; i < n; ++i)
+    render::ProjectVertices(mesh.vertices_m, w.particles.R_cam_obj[i].cast<float>(),
+                            w.particles.t_cam_obj_m[i].cast<float>(), p,
+                            std::span(projected.data() + i * nv, nv));
+  ThreadPool pool(static_cast<int>(state.range(1)));
+  std::vector<int64_t> ready(static_cast<size_t>(pool.size()));
+  for (auto _ : state) {
+    pool.ParallelFor(static_cast<int64_t>(n), [&](int64_t b, int64_t e, int worker) {
+      render::FixedTriangle ft;
+      int64_t k = 0;
+      for (int64_t i = b; i < e; ++i) {
+        const render::ScreenVertex* v = projected.data() + i * nv;
+        for (const auto& t : mesh.triangles)
+          k += render::SetupFixedTriangle(v[t[0]], v[t[1]], v[t[2]], p, &ft) == render::TriangleSetup::kReady;
+      }
+      ready[static_cast<size_t>(worker)] += k;
+      benchmark::DoNotOptimize(ft);
+    });
+  }
+  int64_t total_ready = 0;
+  for (int64_t r : ready) total_ready += r;
+  state.SetLabel("obj " + std::to_string(obj_id) + ", " + std::to_string(mesh.triangles.size()) + " triangles");
+  state.counters["triangles_per_s"] = benchmark::Counter(static_cast<double>(n * mesh.triangles.size()),
+                                                         benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["ready_share"] =
+      static_cast<double>(total_ready) / (static_cast<double>(state.iterations()) * n * mesh.triangles.size());
+}
+BENCHMARK(BM_TriangleSetup)
+    ->ArgNames({"object", "threads", "samples"})
+    ->ArgsProduct({{0, 1, 2, 3, 4}, {1, 2}, {620}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MinTime(0.5);
+BENCHMARK(BM_TriangleSetup)
+    ->ArgNames({"object", "threads", "samples"})
+    ->ArgsProduct({{2}, {1, 2}, {155, 2480}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->MinTime(0.5);

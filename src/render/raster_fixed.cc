@@ -33,122 +33,120 @@ int64_t FillTriangleScalar(const FixedTriangle& t, float* zbuf, int stride) {
   return covered;
 }
 
+TriangleSetup SetupFixedTriangle(const ScreenVertex& v0, const ScreenVertex& v1, const ScreenVertex& v2,
+                                 const RasterParams& params, FixedTriangle* out) {
+  const PixelRect& box = params.box;
+  const ScreenVertex* v[3] = {&v0, &v1, &v2};
+  // Fixed-point coordinates are taken relative to the box origin to keep them small.
+  const float ox = static_cast<float>(box.x0), oy = static_cast<float>(box.y0);
+
+  // Near plane, as in the reference.
+  if (v[0]->z < params.z_near_m || v[1]->z < params.z_near_m || v[2]->z < params.z_near_m) {
+    return TriangleSetup::kCulledNear;
+  }
+
+  // Outside the guard band (or not finite): leave it to the float reference.
+  bool in_band = true;
+  for (const ScreenVertex* p : v) {
+    in_band = in_band && std::fabs(p->u - ox) < kGuardBandPx && std::fabs(p->v - oy) < kGuardBandPx;
+  }
+  if (!in_band) return TriangleSetup::kFloatPath;
+
+  // Snap to the sub-pixel grid.
+  int32_t X[3], Y[3];
+  for (int k = 0; k < 3; ++k) {
+    X[k] = static_cast<int32_t>(std::lrint((v[k]->u - ox) * kOne));
+    Y[k] = static_cast<int32_t>(std::lrint((v[k]->v - oy) * kOne));
+  }
+
+  // Orientation on the snapped triangle: front faces have negative area (y down).
+  int64_t area = int64_t{X[1] - X[0]} * (Y[2] - Y[0]) - int64_t{Y[1] - Y[0]} * (X[2] - X[0]);
+  if (area == 0) return TriangleSetup::kCulledDegenerate;
+  int ia = 0, ib = 1, ic = 2;
+  if (area > 0) {
+    if (params.cull_backfaces) return TriangleSetup::kCulledBackface;
+    std::swap(ib, ic);
+    area = -area;
+  }
+
+  // Bounding box in whole pixels (box-relative), clipped to the box.
+  const int32_t min_x = std::min({X[0], X[1], X[2]}), max_x = std::max({X[0], X[1], X[2]});
+  const int32_t min_y = std::min({Y[0], Y[1], Y[2]}), max_y = std::max({Y[0], Y[1], Y[2]});
+  const int32_t bw = box.width(), bh = box.height();
+  if (max_x < 0 || min_x > (bw - 1) * kOne || max_y < 0 || min_y > (bh - 1) * kOne) {
+    return TriangleSetup::kCulledOutsideBox;
+  }
+  if (max_x - min_x > kMaxSpanPx * kOne || max_y - min_y > kMaxSpanPx * kOne) return TriangleSetup::kFloatPath;
+  // ceil(min / kOne) and floor(max / kOne) for possibly negative values.
+  const int32_t x_lo = std::max(0, (min_x + kOne - 1) >> kSubpixelBits);
+  const int32_t x_hi = std::min(bw - 1, max_x >> kSubpixelBits);
+  const int32_t y_lo = std::max(0, (min_y + kOne - 1) >> kSubpixelBits);
+  const int32_t y_hi = std::min(bh - 1, max_y >> kSubpixelBits);
+  if (x_lo > x_hi || y_lo > y_hi) return TriangleSetup::kCulledBetweenPixels;
+
+  // Edge functions of the reversed edges (positive inside), opposite vertices a, b, c:
+  // E(p) = (P1.x - P0.x) * (p.y - P0.y) - (P1.y - P0.y) * (p.x - P0.x) for edge P0 -> P1.
+  // Stepping one pixel in x adds -(P1.y - P0.y) * kOne, in y adds (P1.x - P0.x) * kOne.
+  FixedTriangle& ft = *out;
+  ft.x_lo = x_lo, ft.x_hi = x_hi, ft.y_lo = y_lo, ft.y_hi = y_hi;
+  const int e0[3] = {ic, ia, ib};  // edge start: c->b (opp. a), a->c (opp. b), b->a (opp. c)
+  const int e1[3] = {ib, ic, ia};
+  const int64_t px0 = int64_t{x_lo} * kOne, py0 = int64_t{y_lo} * kOne;
+  for (int k = 0; k < 3; ++k) {
+    const int64_t dx = X[e1[k]] - X[e0[k]], dy = Y[e1[k]] - Y[e0[k]];
+    // Top-left rule (same predicate as the reference): pixels exactly on a non-owning
+    // edge are excluded by a bias of -1.
+    const bool top_left = (dy == 0 && dx < 0) || dy > 0;
+    ft.w_row[k] = dx * (py0 - Y[e0[k]]) - dy * (px0 - X[e0[k]]) - (top_left ? 0 : 1);
+    ft.step_x[k] = -dy * kOne;
+    ft.step_y[k] = dx * kOne;
+  }
+
+  // 1/z as a plane over pixel coordinates: inv_z = A x + B y + C (box-relative pixels).
+  const double inv_area = 1.0 / static_cast<double>(-area);
+  const double iz[3] = {1.0 / v[ia]->z, 1.0 / v[ib]->z, 1.0 / v[ic]->z};
+  // Barycentric weight of vertex k = E_k(p) / (-area); E_k is linear in p with gradient
+  // (-dy_k, dx_k) per fixed-point unit.
+  double A = 0, B = 0, C = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double dx = X[e1[k]] - X[e0[k]], dy = Y[e1[k]] - Y[e0[k]];
+    const double wk = iz[k] * inv_area;
+    A += -dy * kOne * wk;
+    B += dx * kOne * wk;
+    C += (dx * (-double(Y[e0[k]])) - dy * (-double(X[e0[k]]))) * wk;
+  }
+  ft.A = static_cast<float>(A), ft.B = static_cast<float>(B), ft.C = static_cast<float>(C);
+  // Edge functions fit in 32 bits for the SIMD rows when the span is small enough.
+  ft.simd_fits = max_x - min_x <= kMaxSimdSpanPx * kOne && max_y - min_y <= kMaxSimdSpanPx * kOne;
+  return TriangleSetup::kReady;
+}
+
 void RasterizeDepthFixedPoint(std::span<const ScreenVertex> vertices,
                               std::span<const std::array<uint32_t, 3>> triangles,
                               const RasterParams& params, float* zbuf, RasterStats* stats, RowKernel rows) {
-  const PixelRect& box = params.box;
-  const int stride = box.width();
-  // Fixed-point coordinates are taken relative to the box origin to keep them small.
-  const float ox = static_cast<float>(box.x0), oy = static_cast<float>(box.y0);
+  const int stride = params.box.width();
   RasterStats s;
   s.triangles = static_cast<int64_t>(triangles.size());
+  FixedTriangle ft;
   for (size_t t = 0; t < triangles.size(); ++t) {
     const auto& tri = triangles[t];
-    const ScreenVertex* v[3] = {&vertices[tri[0]], &vertices[tri[1]], &vertices[tri[2]]};
-
-    // Near plane, as in the reference.
-    if (v[0]->z < params.z_near_m || v[1]->z < params.z_near_m || v[2]->z < params.z_near_m) {
-      ++s.culled_near;
-      continue;
-    }
-
-    // Outside the guard band (or not finite): leave it to the float reference.
-    bool in_band = true;
-    for (const ScreenVertex* p : v) {
-      in_band = in_band && std::fabs(p->u - ox) < kGuardBandPx && std::fabs(p->v - oy) < kGuardBandPx;
-    }
-    if (!in_band) {
-      RasterizeDepthReference(vertices, triangles.subspan(t, 1), params, zbuf, &s);
-      --s.triangles;  // counted once above
-      continue;
-    }
-
-    // Snap to the sub-pixel grid.
-    int32_t X[3], Y[3];
-    for (int k = 0; k < 3; ++k) {
-      X[k] = static_cast<int32_t>(std::lrint((v[k]->u - ox) * kOne));
-      Y[k] = static_cast<int32_t>(std::lrint((v[k]->v - oy) * kOne));
-    }
-
-    // Orientation on the snapped triangle: front faces have negative area (y down).
-    int64_t area = int64_t{X[1] - X[0]} * (Y[2] - Y[0]) - int64_t{Y[1] - Y[0]} * (X[2] - X[0]);
-    if (area == 0) {
-      ++s.culled_degenerate;
-      continue;
-    }
-    int ia = 0, ib = 1, ic = 2;
-    if (area > 0) {
-      if (params.cull_backfaces) {
-        ++s.culled_backface;
+    switch (SetupFixedTriangle(vertices[tri[0]], vertices[tri[1]], vertices[tri[2]], params, &ft)) {
+      case TriangleSetup::kCulledNear: ++s.culled_near; continue;
+      case TriangleSetup::kCulledDegenerate: ++s.culled_degenerate; continue;
+      case TriangleSetup::kCulledBackface: ++s.culled_backface; continue;
+      case TriangleSetup::kCulledOutsideBox: ++s.culled_outside_box; continue;
+      case TriangleSetup::kCulledBetweenPixels: ++s.culled_between_pixels; continue;
+      case TriangleSetup::kFloatPath:
+        RasterizeDepthReference(vertices, triangles.subspan(t, 1), params, zbuf, &s);
+        --s.triangles;  // counted once above
         continue;
-      }
-      std::swap(ib, ic);
-      area = -area;
+      case TriangleSetup::kReady: break;
     }
-
-    // Bounding box in whole pixels (box-relative), clipped to the box.
-    const int32_t min_x = std::min({X[0], X[1], X[2]}), max_x = std::max({X[0], X[1], X[2]});
-    const int32_t min_y = std::min({Y[0], Y[1], Y[2]}), max_y = std::max({Y[0], Y[1], Y[2]});
-    const int32_t bw = box.width(), bh = box.height();
-    if (max_x < 0 || min_x > (bw - 1) * kOne || max_y < 0 || min_y > (bh - 1) * kOne) {
-      ++s.culled_outside_box;
-      continue;
-    }
-    if (max_x - min_x > kMaxSpanPx * kOne || max_y - min_y > kMaxSpanPx * kOne) {
-      RasterizeDepthReference(vertices, triangles.subspan(t, 1), params, zbuf, &s);
-      --s.triangles;
-      continue;
-    }
-    // ceil(min / kOne) and floor(max / kOne) for possibly negative values.
-    const int32_t x_lo = std::max(0, (min_x + kOne - 1) >> kSubpixelBits);
-    const int32_t x_hi = std::min(bw - 1, max_x >> kSubpixelBits);
-    const int32_t y_lo = std::max(0, (min_y + kOne - 1) >> kSubpixelBits);
-    const int32_t y_hi = std::min(bh - 1, max_y >> kSubpixelBits);
-    if (x_lo > x_hi || y_lo > y_hi) {
-      ++s.culled_between_pixels;
-      continue;
-    }
-
-    // Edge functions of the reversed edges (positive inside), opposite vertices a, b, c:
-    // E(p) = (P1.x - P0.x) * (p.y - P0.y) - (P1.y - P0.y) * (p.x - P0.x) for edge P0 -> P1.
-    // Stepping one pixel in x adds -(P1.y - P0.y) * kOne, in y adds (P1.x - P0.x) * kOne.
-    FixedTriangle ft;
-    ft.x_lo = x_lo, ft.x_hi = x_hi, ft.y_lo = y_lo, ft.y_hi = y_hi;
-    const int e0[3] = {ic, ia, ib};  // edge start: c->b (opp. a), a->c (opp. b), b->a (opp. c)
-    const int e1[3] = {ib, ic, ia};
-    const int64_t px0 = int64_t{x_lo} * kOne, py0 = int64_t{y_lo} * kOne;
-    for (int k = 0; k < 3; ++k) {
-      const int64_t dx = X[e1[k]] - X[e0[k]], dy = Y[e1[k]] - Y[e0[k]];
-      // Top-left rule (same predicate as the reference): pixels exactly on a non-owning
-      // edge are excluded by a bias of -1.
-      const bool top_left = (dy == 0 && dx < 0) || dy > 0;
-      ft.w_row[k] = dx * (py0 - Y[e0[k]]) - dy * (px0 - X[e0[k]]) - (top_left ? 0 : 1);
-      ft.step_x[k] = -dy * kOne;
-      ft.step_y[k] = dx * kOne;
-    }
-
-    // 1/z as a plane over pixel coordinates: inv_z = A x + B y + C (box-relative pixels).
-    const double inv_area = 1.0 / static_cast<double>(-area);
-    const double iz[3] = {1.0 / v[ia]->z, 1.0 / v[ib]->z, 1.0 / v[ic]->z};
-    // Barycentric weight of vertex k = E_k(p) / (-area); E_k is linear in p with gradient
-    // (-dy_k, dx_k) per fixed-point unit.
-    double A = 0, B = 0, C = 0;
-    for (int k = 0; k < 3; ++k) {
-      const double dx = X[e1[k]] - X[e0[k]], dy = Y[e1[k]] - Y[e0[k]];
-      const double wk = iz[k] * inv_area;
-      A += -dy * kOne * wk;
-      B += dx * kOne * wk;
-      C += (dx * (-double(Y[e0[k]])) - dy * (-double(X[e0[k]]))) * wk;
-    }
-    ft.A = static_cast<float>(A), ft.B = static_cast<float>(B), ft.C = static_cast<float>(C);
-
     // Walk the bounding box: a vector of pixels at a time where the edge functions fit in 32
     // bits and rows are wide enough to fill one; tiny triangles (full meshes far away) are
     // cheaper one pixel at a time. Both kernels give bit-identical results.
-    const bool simd_fits = max_x - min_x <= kMaxSimdSpanPx * kOne && max_y - min_y <= kMaxSimdSpanPx * kOne &&
-                           x_hi - x_lo + 1 >= kMinSimdRowPx;
-    const int64_t covered = rows == RowKernel::kSimd && simd_fits ? FillTriangleSimd(ft, zbuf, stride)
-                                                                  : FillTriangleScalar(ft, zbuf, stride);
+    const bool simd = rows == RowKernel::kSimd && ft.simd_fits && ft.x_hi - ft.x_lo + 1 >= kMinSimdRowPx;
+    const int64_t covered = simd ? FillTriangleSimd(ft, zbuf, stride) : FillTriangleScalar(ft, zbuf, stride);
     if (covered == 0) {
       ++s.culled_between_pixels;
     } else {

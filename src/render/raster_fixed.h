@@ -35,7 +35,25 @@ struct FixedTriangle {
   int32_t x_lo = 0, x_hi = -1, y_lo = 0, y_hi = -1;  // inclusive
   int64_t w_row[3] = {0, 0, 0}, step_x[3] = {0, 0, 0}, step_y[3] = {0, 0, 0};
   float A = 0, B = 0, C = 0;
+  bool simd_fits = false;  // the span keeps the edge functions in 32 bits (kMaxSimdSpanPx)
 };
+
+// What triangle setup made of one triangle.
+enum class TriangleSetup {
+  kReady,                // *out is set up: walk it with a Fill kernel
+  kCulledNear,           // a vertex closer than params.z_near_m
+  kCulledDegenerate,     // zero area after snapping
+  kCulledBackface,       // positive (back-facing) area and params.cull_backfaces
+  kCulledOutsideBox,     // the snapped bounding box misses params.box
+  kCulledBetweenPixels,  // the bounding box holds no pixel centre
+  kFloatPath,            // outside the guard band or wider than 2048 px: use the float reference
+};
+
+// Triangle setup of the fixed-point core: near-plane test, snapping to 1/16 pixel, orientation,
+// box and pixel-centre culls, then edge functions and the 1/z plane. The reasons are tested in
+// this order (a triangle gets the first that applies).
+TriangleSetup SetupFixedTriangle(const ScreenVertex& v0, const ScreenVertex& v1, const ScreenVertex& v2,
+                                 const RasterParams& params, FixedTriangle* out);
 
 // Walks the triangle's pixels, keeping the nearest depth 1 / (A x + (B y + C)) of covered
 // pixels in zbuf (row stride `stride`). Returns the covered pixel count.
