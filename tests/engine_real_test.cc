@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -97,19 +98,33 @@ TEST(LodRealData, ChainShrinksAndChosenLevelRendersLikeTheFullMesh) {
   }
 }
 
-TEST(RasterCoresRealData, CountsEqualAWholeBoxRenderForEveryBackendAndLod) {
+// One object of a real frame, boxed by its visible mask (score 1).
+struct ObjectInFrame {
+  std::optional<Frame> frame;
+  std::optional<Mesh> mesh;
+  Detection box;
+};
+void LoadObjectInFrame(FrameKey key, int obj_id, ObjectInFrame* out) {
   auto ds = Dataset::Open(testing::YcbvDir());
   ASSERT_TRUE(ds.ok()) << ds.status().ToString();
-  auto frame = (*ds)->LoadFrame(FrameKey{1, 1});
+  auto frame = (*ds)->LoadFrame(key);
   ASSERT_TRUE(frame.ok()) << frame.status().ToString();
-  const Intrinsics& K = frame->K;
-  const int obj_id = 5;  // 006_mustard_bottle
   auto mesh = (*ds)->LoadMesh(obj_id);
   ASSERT_TRUE(mesh.ok());
-  Detection d;
   for (const GtInstance& gt : frame->gt)
-    if (gt.obj_id == obj_id) { ASSERT_GT(MaskBox(*(*ds)->LoadVisibleMask(frame->key, gt), &d), 0); }
-  d.obj_id = obj_id, d.score = 1;
+    if (gt.obj_id == obj_id) { ASSERT_GT(MaskBox(*(*ds)->LoadVisibleMask(frame->key, gt), &out->box), 0); }
+  out->box.obj_id = obj_id, out->box.score = 1;
+  out->frame = std::move(frame).value();
+  out->mesh = std::move(mesh).value();
+}
+
+TEST(RasterCoresRealData, CountsEqualAWholeBoxRenderForEveryBackendAndLod) {
+  ObjectInFrame o;
+  ASSERT_NO_FATAL_FAILURE(LoadObjectInFrame(FrameKey{1, 1}, 5, &o));  // 006_mustard_bottle
+  const auto& frame = o.frame;
+  const auto& mesh = o.mesh;
+  const Intrinsics& K = frame->K;
+  const Detection& d = o.box;
   std::vector<engine::BoxDepth> boxes;
   boxes.push_back(engine::DistributeDepth(frame->depth, K, engine::ClipBox(d.x, d.y, d.w, d.h, K.width, K.height),
                                           1.0, InlierMode::k1D));
@@ -160,18 +175,12 @@ TEST(RasterCoresRealData, CountsEqualAWholeBoxRenderForEveryBackendAndLod) {
 // other float operations (scaled coordinates), so a pixel on a triangle edge may flip: the
 // counts agree to 0.5% of the rendered pixels, summed over the samples.
 TEST(RasterCoresRealData, StrideTwoGridMatchesTheFullRenderAtTheGridPixels) {
-  auto ds = Dataset::Open(testing::YcbvDir());
-  ASSERT_TRUE(ds.ok()) << ds.status().ToString();
-  auto frame = (*ds)->LoadFrame(FrameKey{1, 1});
-  ASSERT_TRUE(frame.ok()) << frame.status().ToString();
+  ObjectInFrame o;
+  ASSERT_NO_FATAL_FAILURE(LoadObjectInFrame(FrameKey{1, 1}, 2, &o));  // 003_cracker_box
+  const auto& frame = o.frame;
+  const auto& mesh = o.mesh;
   const Intrinsics& K = frame->K;
-  const int obj_id = 2;  // 003_cracker_box
-  auto mesh = (*ds)->LoadMesh(obj_id);
-  ASSERT_TRUE(mesh.ok());
-  Detection d;
-  for (const GtInstance& gt : frame->gt)
-    if (gt.obj_id == obj_id) { ASSERT_GT(MaskBox(*(*ds)->LoadVisibleMask(frame->key, gt), &d), 0); }
-  d.obj_id = obj_id, d.score = 1;
+  const Detection& d = o.box;
   const render::PixelRect rect = engine::ClipBox(d.x, d.y, d.w, d.h, K.width, K.height);
   std::vector<engine::BoxDepth> grid, full;
   grid.push_back(engine::DistributeDepth(frame->depth, K, rect, 1.0, InlierMode::k1D, 2));
