@@ -63,6 +63,9 @@ nlohmann::json CountersJson(const EngineCounters& c) {
           {"culled_between_pixels", c.culled_between_pixels},
           {"triangles_rasterized", c.triangles_rasterized},
           {"fragments", c.fragments},
+          {"clusters", c.clusters},
+          {"clusters_culled_backface", c.clusters_culled_backface},
+          {"clusters_culled_outside_box", c.clusters_culled_outside_box},
           {"cdf_draws", c.cdf_draws},
           {"cdf_reads", c.cdf_reads},
           {"cdf_reads_naive", c.cdf_reads_naive},
@@ -127,6 +130,7 @@ Status RunEstimate(EstimateArgs& a) {
                             {"lod_px", o.lod_error_px},
                             {"occlusion_aware", o.occlusion_aware},
                             {"pixel_stride", o.pixel_stride},
+                            {"cluster_culling", o.cluster_culling},
                             {"threads", o.threads}}},
                           {"objects", objects}};
     MCPOSE_RETURN_IF_ERROR(WriteFileAtomically(a.out_json, doc.dump(1) + "\n"));
@@ -180,6 +184,8 @@ void AddEstimateCommand(CLI::App& app, Status* status) {
   cmd->add_flag("--occlusion-aware,!--no-occlusion-aware", o.occlusion_aware,
                 "Leave rendered pixels hidden behind observed surfaces out of N_r (default on; --no-occlusion-aware: the paper's N_r)");
   cmd->add_flag("--no-backface-culling", args->no_culling, "Rasterize back faces too");
+  cmd->add_flag("--cluster-culling,!--no-cluster-culling", o.cluster_culling,
+                "Drop whole triangle clusters outside the box or facing away before setup (fixed, simd; with LOD; default on)");
   cmd->add_flag("-q,--quiet", args->quiet, "No progress output");
   cmd->callback([args, status] { *status = RunEstimate(*args); });
 }

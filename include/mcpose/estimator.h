@@ -27,6 +27,9 @@ struct EngineCounters {
   int64_t culled_between_pixels = 0;   // covers no pixel centre
   int64_t triangles_rasterized = 0;    // covered at least one pixel centre
   int64_t fragments = 0;               // pixel centres covered (before the depth test)
+  int64_t clusters = 0;                // culling clusters tested (cluster_culling)
+  int64_t clusters_culled_backface = 0;    // dropped whole: facing away
+  int64_t clusters_culled_outside_box = 0; // dropped whole: outside the box
   int64_t cdf_draws = 0;
   int64_t cdf_reads = 0;               // CDF entries read with the coarse table + fine search
   int64_t cdf_reads_naive = 0;         // entries a linear search from the start would read

@@ -78,6 +78,10 @@ struct EstimatorOptions {
   // geometric error, projected at the box's initial depth, is at most lod_error_px pixels
   // (render/lod.h). 0 = always the full mesh.
   double lod_error_px = 1.0;
+  // Cluster culling (fixed and simd engines, with LOD): drop whole meshoptimizer clusters of up
+  // to 64 triangles that lie outside the box or face away, before triangle setup; the same
+  // inlier counts as culling triangle by triangle in the tests (render/clusters.h).
+  bool cluster_culling = true;
   // Pixel stride: score each box on every pixel_stride-th pixel in x and y (the same rays,
   // pixel_stride^2 times fewer; engine/raster_cores.h); the LOD budget is in these raster
   // pixels. 1 = every pixel, as the paper. 2 halves the iteration time with the same accuracy

@@ -141,11 +141,15 @@ StatusOr<std::vector<BenchObject>> RunBench(const Dataset& ds, const BenchOption
     engine::InitializeSamples(K, mesh, std::span(&r.box, 1), boxes, eo, GroupStreamId(r.frame.scene_id, r.frame.image_id, obj_id),
                               &particles);
     const render::LodChain lod = render::LodChain::Build(mesh);
-    const Mesh& render_mesh = lod.level(engine::SelectLodLevel(lod, K, mesh, r.box, boxes[0], eo)).mesh;
+    const render::LodLevel& level = lod.level(engine::SelectLodLevel(lod, K, mesh, r.box, boxes[0], eo));
+    const Mesh& render_mesh = level.mesh;
     const Mesh* box_mesh[1] = {&render_mesh};
+    const render::ClusterSet* box_clusters[1] = {&level.clusters};
     engine::ScoreJob job;
     job.mesh = &mesh;
     job.box_mesh = box_mesh;
+    // As the estimator: clusters come with the LOD chain.
+    if (eo.cluster_culling && eo.lod_error_px > 0) job.box_clusters = box_clusters;
     job.K = K;
     job.boxes = boxes;
     job.eps_m = static_cast<float>(eo.eps_m);

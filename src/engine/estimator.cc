@@ -107,10 +107,14 @@ StatusOr<ObjectEstimate> Estimator::Estimate(const Intrinsics& K, const DepthIma
   // ---- Level of detail: per box, the coarsest mesh within the pixel error budget ----------
   std::shared_ptr<const render::LodChain> lod;
   std::vector<const Mesh*> box_mesh;
+  std::vector<const render::ClusterSet*> box_clusters;
   if (opt.lod_error_px > 0) {
     lod = impl_->Lod(mesh);
-    for (size_t b = 0; b < boxes.size(); ++b)
-      box_mesh.push_back(&lod->level(engine::SelectLodLevel(*lod, K, mesh, boxes[b], box_depth[b], opt)).mesh);
+    for (size_t b = 0; b < boxes.size(); ++b) {
+      const render::LodLevel& level = lod->level(engine::SelectLodLevel(*lod, K, mesh, boxes[b], box_depth[b], opt));
+      box_mesh.push_back(&level.mesh);
+      if (opt.cluster_culling) box_clusters.push_back(&level.clusters);
+    }
   } else {
     box_mesh.assign(boxes.size(), &mesh);
   }
@@ -120,6 +124,7 @@ StatusOr<ObjectEstimate> Estimator::Estimate(const Intrinsics& K, const DepthIma
   engine::ScoreJob job;
   job.mesh = &mesh;
   job.box_mesh = box_mesh;
+  job.box_clusters = box_clusters;
   job.K = K;
   job.boxes = box_depth;
   job.inlier_mode = opt.inlier_mode;
@@ -152,6 +157,9 @@ StatusOr<ObjectEstimate> Estimator::Estimate(const Intrinsics& K, const DepthIma
     counters.culled_between_pixels += stats.culled_between_pixels;
     counters.triangles_rasterized += stats.rasterized;
     counters.fragments += stats.fragments;
+    counters.clusters += stats.clusters;
+    counters.clusters_culled_backface += stats.clusters_culled_backface;
+    counters.clusters_culled_outside_box += stats.clusters_culled_outside_box;
 
     // Depth distributor traffic: the union of the boxes in use, versus a copy per sample.
     std::vector<char> box_used(boxes.size(), 0);

@@ -72,6 +72,7 @@ void RasterCores::Score(const ScoreJob& job, const filter::ParticleSet& particle
                         std::span<score::InlierCounts> counts, render::RasterStats* stats) {
   MCPOSE_CHECK_EQ(counts.size(), particles.size());
   MCPOSE_CHECK(job.box_mesh.empty() || job.box_mesh.size() == job.boxes.size());
+  MCPOSE_CHECK(job.box_clusters.empty() || job.box_clusters.size() == job.box_mesh.size());
   size_t max_vertices = job.mesh->vertices_m.size();
   for (const Mesh* m : job.box_mesh) max_vertices = std::max(max_vertices, m->vertices_m.size());
   for (auto& s : scratch_) {
@@ -113,12 +114,35 @@ void RasterCores::Score(const ScoreJob& job, const filter::ParticleSet& particle
           render::RasterizeDepthReference(vertices, mesh.triangles, params, s.zbuf.data(), &s.stats);
           break;
         case RasterBackend::kFixedPoint:
-          render::RasterizeDepthFixedPoint(vertices, mesh.triangles, params, s.zbuf.data(), &s.stats);
+        case RasterBackend::kSimd: {
+          const render::RowKernel rows =
+              backend_ == RasterBackend::kSimd ? render::RowKernel::kSimd : render::RowKernel::kScalar;
+          const render::ClusterSet* clusters = job.box_clusters.empty() ? nullptr : job.box_clusters[particles.box[i]];
+          if (!clusters) {
+            render::RasterizeDepthFixedPoint(vertices, mesh.triangles, params, s.zbuf.data(), &s.stats, rows);
+            break;
+          }
+          const Eigen::Vector3f camera_in_model = -(R.transpose() * t);
+          for (const render::Cluster& c : clusters->clusters) {
+            ++s.stats.clusters;
+            switch (render::CullCluster(c, R, t, camera_in_model, params)) {
+              case render::ClusterCull::kBackface:
+                ++s.stats.clusters_culled_backface;
+                s.stats.triangles += c.count, s.stats.culled_backface += c.count;
+                break;
+              case render::ClusterCull::kOutsideBox:
+                ++s.stats.clusters_culled_outside_box;
+                s.stats.triangles += c.count, s.stats.culled_outside_box += c.count;
+                break;
+              case render::ClusterCull::kKeep:
+                render::RasterizeDepthFixedPoint(
+                    vertices, std::span(clusters->triangles).subspan(c.first, c.count), params, s.zbuf.data(),
+                    &s.stats, rows);
+                break;
+            }
+          }
           break;
-        case RasterBackend::kSimd:
-          render::RasterizeDepthFixedPoint(vertices, mesh.triangles, params, s.zbuf.data(), &s.stats,
-                                           render::RowKernel::kSimd);
-          break;
+        }
       }
 
       // Compare with the observed depth of the box.

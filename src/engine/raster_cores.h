@@ -13,6 +13,7 @@
 #include "mcpose/image.h"
 #include "mcpose/mesh.h"
 #include "mcpose/options.h"
+#include "render/clusters.h"
 #include "render/raster.h"
 #include "score/inlier.h"
 
@@ -51,6 +52,10 @@ int64_t UnionSamples(std::span<const BoxDepth* const> boxes);
 struct ScoreJob {
   const Mesh* mesh = nullptr;            // the full mesh
   std::span<const Mesh* const> box_mesh; // optional: the mesh (LOD level) each box renders
+  // Optional, with box_mesh: the culling clusters of each box's mesh. The fixed-point and
+  // SIMD cores then drop whole clusters outside the box or facing away (same z-buffer); the
+  // scalar reference always walks every triangle.
+  std::span<const render::ClusterSet* const> box_clusters;
   Intrinsics K;                          // the camera (each box renders through its K_grid)
   std::span<const BoxDepth> boxes;
   InlierMode inlier_mode = InlierMode::k1D;

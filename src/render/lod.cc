@@ -31,7 +31,7 @@ Mesh Compact(const Mesh& full, const std::vector<uint32_t>& indices) {
 
 LodChain LodChain::Build(const Mesh& mesh) {
   LodChain chain;
-  chain.levels_.push_back(LodLevel{mesh, 0.f});
+  chain.levels_.push_back(LodLevel{mesh, 0.f, ClusterSet::Build(mesh)});
   if (mesh.triangles.size() <= kMinTriangles) return chain;
 
   std::vector<uint32_t> indices(mesh.triangles.size() * 3);
@@ -58,7 +58,9 @@ LodChain LodChain::Build(const Mesh& mesh) {
       std::vector<uint32_t> kept(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(n));
       // The reported error, but never below the previous level's (errors must grow).
       const float err = std::max(result_error * scale, chain.levels_.back().error_m);
-      chain.levels_.push_back(LodLevel{Compact(mesh, kept), err});
+      Mesh level = Compact(mesh, kept);
+      ClusterSet clusters = ClusterSet::Build(level);
+      chain.levels_.push_back(LodLevel{std::move(level), err, std::move(clusters)});
     }
     if (n <= kMinTriangles * 3) break;
   }

@@ -8,12 +8,14 @@
 #include <vector>
 
 #include "mcpose/mesh.h"
+#include "render/clusters.h"
 
 namespace mcpose::render {
 
 struct LodLevel {
   Mesh mesh;            // vertices compacted to those the triangles use
   float error_m = 0;    // meshoptimizer's geometric deviation from the full mesh, metres
+  ClusterSet clusters;  // the same triangles in culling clusters (render/clusters.h)
 };
 
 class LodChain {

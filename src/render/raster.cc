@@ -14,6 +14,9 @@ RasterStats& RasterStats::operator+=(const RasterStats& o) {
   culled_between_pixels += o.culled_between_pixels;
   rasterized += o.rasterized;
   fragments += o.fragments;
+  clusters += o.clusters;
+  clusters_culled_backface += o.clusters_culled_backface;
+  clusters_culled_outside_box += o.clusters_culled_outside_box;
   return *this;
 }
 

@@ -44,6 +44,11 @@ struct RasterStats {
   int64_t culled_between_pixels = 0;
   int64_t rasterized = 0;
   int64_t fragments = 0;  // covered pixel centres, before the depth test
+  // Cluster culling (render/clusters.h), when used: clusters tested, and those dropped whole
+  // (their triangles are counted in culled_backface / culled_outside_box above).
+  int64_t clusters = 0;
+  int64_t clusters_culled_backface = 0;
+  int64_t clusters_culled_outside_box = 0;
 
   RasterStats& operator+=(const RasterStats& o);
 };

@@ -1,0 +1,92 @@
+#include "render/clusters.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Geometry>
+#include <meshoptimizer.h>
+
+namespace mcpose::render {
+
+ClusterSet ClusterSet::Build(const Mesh& mesh) {
+  ClusterSet out;
+  std::vector<unsigned int> indices;
+  indices.reserve(mesh.triangles.size() * 3);
+  for (const auto& t : mesh.triangles) indices.insert(indices.end(), {t[0], t[1], t[2]});
+  const size_t max_meshlets = meshopt_buildMeshletsBound(indices.size(), kMaxVertices, kMaxTriangles);
+  std::vector<meshopt_Meshlet> meshlets(max_meshlets);
+  std::vector<unsigned int> meshlet_vertices(max_meshlets * kMaxVertices);
+  std::vector<unsigned char> meshlet_triangles(max_meshlets * kMaxTriangles * 3);
+  const float* positions = mesh.vertices_m.data()->data();
+  const size_t n = meshopt_buildMeshlets(meshlets.data(), meshlet_vertices.data(), meshlet_triangles.data(),
+                                         indices.data(), indices.size(), positions, mesh.vertices_m.size(),
+                                         sizeof(Eigen::Vector3f), kMaxVertices, kMaxTriangles, /*cone_weight=*/0.5f);
+  out.triangles.reserve(mesh.triangles.size());
+  for (size_t m = 0; m < n; ++m) {
+    const meshopt_Meshlet& ml = meshlets[m];
+    const meshopt_Bounds b = meshopt_computeMeshletBounds(
+        &meshlet_vertices[ml.vertex_offset], &meshlet_triangles[ml.triangle_offset], ml.triangle_count, positions,
+        mesh.vertices_m.size(), sizeof(Eigen::Vector3f));
+    Cluster c;
+    c.first = static_cast<uint32_t>(out.triangles.size());
+    c.count = ml.triangle_count;
+    c.center = Eigen::Vector3f(b.center[0], b.center[1], b.center[2]);
+    c.radius = b.radius;
+    c.cone_apex = Eigen::Vector3f(b.cone_apex[0], b.cone_apex[1], b.cone_apex[2]);
+    c.cone_axis = Eigen::Vector3f(b.cone_axis[0], b.cone_axis[1], b.cone_axis[2]);
+    c.cone_cutoff = b.cone_cutoff;
+    // meshoptimizer leaves triangles of (near) zero area out of the cone; snapped to the pixel
+    // grid such a sliver can still face the camera. A cluster with one, or with a normal
+    // outside its cone, is never dropped as back-facing.
+    const double cos_half = std::sqrt(std::max(0.0, 1.0 - double(c.cone_cutoff) * c.cone_cutoff));
+    bool cone_holds = c.cone_cutoff < 1.0f;
+    for (unsigned int k = 0; k < ml.triangle_count; ++k) {
+      const unsigned char* lt = &meshlet_triangles[ml.triangle_offset + 3 * k];
+      const std::array<uint32_t, 3> tri = {meshlet_vertices[ml.vertex_offset + lt[0]],
+                                           meshlet_vertices[ml.vertex_offset + lt[1]],
+                                           meshlet_vertices[ml.vertex_offset + lt[2]]};
+      out.triangles.push_back(tri);
+      const Eigen::Vector3d a = mesh.vertices_m[tri[0]].cast<double>(), b = mesh.vertices_m[tri[1]].cast<double>(),
+                            d = mesh.vertices_m[tri[2]].cast<double>();
+      const Eigen::Vector3d n = (b - a).cross(d - a);
+      const double edge2 = std::max({(b - a).squaredNorm(), (d - a).squaredNorm(), (d - b).squaredNorm()});
+      // Slivers: area below 1% of the longest edge squared.
+      if (!(n.norm() > 0.01 * edge2) || n.normalized().dot(c.cone_axis.cast<double>()) < cos_half - 1e-6)
+        cone_holds = false;
+    }
+    if (!cone_holds) c.cone_cutoff = 1.0f;
+    out.clusters.push_back(c);
+  }
+  return out;
+}
+
+ClusterCull CullCluster(const Cluster& c, const Eigen::Matrix3f& R, const Eigen::Vector3f& t,
+                        const Eigen::Vector3f& camera_in_model, const RasterParams& params) {
+  // Back-facing: meshoptimizer's perspective cone test, with a margin.
+  if (c.cone_cutoff < 1.0f - kConeMargin) {
+    const Eigen::Vector3f view = c.cone_apex - camera_in_model;
+    const float len = view.norm();
+    if (len > 0 && view.dot(c.cone_axis) >= (c.cone_cutoff + kConeMargin) * len) return ClusterCull::kBackface;
+  }
+  // Outside the box: bound the projection of the sphere's bounding cube. With every point's
+  // depth in [z - r, z + r] > 0, x / z over the cube lies between its values at the corners
+  // (monotone in x and in z), so u lies between fx * min(x / z) + cx and fx * max(x / z) + cx.
+  const Eigen::Vector3f p = R * c.center + t;
+  const float r = c.radius, z0 = p.z() - r, z1 = p.z() + r;
+  if (!(z0 > params.z_near_m)) return ClusterCull::kKeep;  // near the camera: per triangle
+  const float i0 = 1.0f / z0, i1 = 1.0f / z1;
+  auto range = [&](float xc, float f, float cc, float* lo, float* hi) {
+    const float a = xc - r, b = xc + r;
+    *lo = f * std::min({a * i0, a * i1}) + cc;
+    *hi = f * std::max({b * i0, b * i1}) + cc;
+  };
+  float u0, u1, v0, v1;
+  range(p.x(), params.fx, params.cx, &u0, &u1);
+  range(p.y(), params.fy, params.cy, &v0, &v1);
+  // One pixel of slack for rounding and sub-pixel snapping; pixel centres are at integers.
+  const PixelRect& box = params.box;
+  if (u1 < box.x0 - 1.0f || u0 > box.x1 || v1 < box.y0 - 1.0f || v0 > box.y1) return ClusterCull::kOutsideBox;
+  return ClusterCull::kKeep;
+}
+
+}  // namespace mcpose::render

@@ -1,0 +1,102 @@
+// Cluster culling: every triangle in one cluster, and the culls conservative: a dropped
+// cluster's triangles are each culled by the fixed-point setup for the same reason.
+#include "render/clusters.h"
+
+#include <algorithm>
+#include <random>
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+
+#include "render/raster_fixed.h"
+
+namespace mcpose::render {
+namespace {
+
+// A closed, finely tessellated ellipsoid-ish blob (outward, counter-clockwise), metres.
+Mesh Blob() {
+  Mesh m;
+  const int nu = 48, nv = 24;
+  for (int j = 0; j <= nv; ++j) {
+    const double th = M_PI * j / nv;
+    for (int i = 0; i < nu; ++i) {
+      const double ph = 2 * M_PI * i / nu;
+      const double r = 0.05 * (1 + 0.2 * std::sin(3 * ph) * std::sin(th));
+      m.vertices_m.emplace_back(r * std::sin(th) * std::cos(ph), 0.7 * r * std::sin(th) * std::sin(ph),
+                                1.4 * r * std::cos(th));
+    }
+  }
+  auto id = [&](int i, int j) { return static_cast<uint32_t>(j * nu + (i % nu)); };
+  for (int j = 0; j < nv; ++j)
+    for (int i = 0; i < nu; ++i) {
+      m.triangles.push_back({id(i, j), id(i, j + 1), id(i + 1, j)});
+      m.triangles.push_back({id(i + 1, j), id(i, j + 1), id(i + 1, j + 1)});
+    }
+  return m;
+}
+
+TEST(Clusters, EveryTriangleInExactlyOneCluster) {
+  const Mesh m = Blob();
+  const ClusterSet cs = ClusterSet::Build(m);
+  ASSERT_GT(cs.clusters.size(), 10u);
+  auto sorted = [](std::vector<std::array<uint32_t, 3>> t) {
+    for (auto& x : t) std::rotate(x.begin(), std::min_element(x.begin(), x.end()), x.end());  // keep winding
+    std::sort(t.begin(), t.end());
+    return t;
+  };
+  EXPECT_EQ(sorted(cs.triangles), sorted(m.triangles));
+  uint32_t next = 0;
+  for (const Cluster& c : cs.clusters) {
+    EXPECT_EQ(c.first, next);
+    EXPECT_GE(c.count, 1u);
+    EXPECT_LE(c.count, ClusterSet::kMaxTriangles);
+    next += c.count;
+    for (uint32_t k = c.first; k < c.first + c.count; ++k)
+      for (uint32_t v : cs.triangles[k]) EXPECT_LE((m.vertices_m[v] - c.center).norm(), c.radius * 1.0001f + 1e-7f);
+  }
+  EXPECT_EQ(next, m.triangles.size());
+}
+
+TEST(Clusters, CullsAreConservativeOnRandomPoses) {
+  const Mesh m = Blob();
+  const ClusterSet cs = ClusterSet::Build(m);
+  std::mt19937_64 gen(3);
+  std::uniform_real_distribution<float> u(-1, 1);
+  RasterParams p;
+  p.fx = 1066.8f, p.fy = 1067.5f, p.cx = 313.0f, p.cy = 241.3f;
+  std::vector<ScreenVertex> sv(m.vertices_m.size());
+  int64_t dropped_back = 0, dropped_box = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const Eigen::Matrix3f R = Eigen::AngleAxisf(3.14159f * u(gen), Eigen::Vector3f(u(gen), u(gen), u(gen)).normalized())
+                                  .toRotationMatrix();
+    const Eigen::Vector3f t(0.15f * u(gen), 0.1f * u(gen), 0.6f + 0.3f * u(gen));
+    const int x0 = 150 + static_cast<int>(120 * u(gen)), y0 = 120 + static_cast<int>(100 * u(gen));
+    p.box = PixelRect{x0, y0, x0 + 20 + static_cast<int>(60 * (1 + u(gen))), y0 + 20 + static_cast<int>(50 * (1 + u(gen)))};
+    ProjectVertices(m.vertices_m, R, t, p, sv);
+    const Eigen::Vector3f cam = -(R.transpose() * t);
+    for (const Cluster& c : cs.clusters) {
+      const ClusterCull why = CullCluster(c, R, t, cam, p);
+      if (why == ClusterCull::kKeep) continue;
+      (why == ClusterCull::kBackface ? dropped_back : dropped_box) += 1;
+      for (uint32_t k = c.first; k < c.first + c.count; ++k) {
+        const auto& tri = cs.triangles[k];
+        FixedTriangle ft;
+        const TriangleSetup s = SetupFixedTriangle(sv[tri[0]], sv[tri[1]], sv[tri[2]], p, &ft);
+        // A dropped triangle must never have reached the rows.
+        EXPECT_NE(s, TriangleSetup::kReady) << "trial " << trial << " triangle " << k;
+        EXPECT_NE(s, TriangleSetup::kFloatPath) << "trial " << trial << " triangle " << k;
+        if (why == ClusterCull::kOutsideBox) {
+          EXPECT_TRUE(s == TriangleSetup::kCulledOutsideBox || s == TriangleSetup::kCulledBackface ||
+                      s == TriangleSetup::kCulledDegenerate || s == TriangleSetup::kCulledNear)
+              << "trial " << trial << " triangle " << k;
+        }
+      }
+    }
+  }
+  // Both tests fired often enough to mean something.
+  EXPECT_GT(dropped_back, 300);
+  EXPECT_GT(dropped_box, 300);
+}
+
+}  // namespace
+}  // namespace mcpose::render
