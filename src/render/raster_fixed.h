@@ -22,9 +22,10 @@ inline constexpr int kSubpixelBits = 4;
 // Triangles whose bounding box spans at most this many pixels per side have edge functions
 // that fit in 32 bits (|E| < 2^30), so the SIMD row kernel can take them.
 inline constexpr int32_t kMaxSimdSpanPx = 1024;
-// RowKernel::kSimd walks triangles whose pixel rows are narrower than this one pixel at a
-// time (FillTriangleScalar): vector setup costs more than it saves on 1-4 pixel triangles.
-inline constexpr int32_t kMinSimdRowPx = 6;
+// RowKernel::kSimd walks triangles whose bounding box is narrower than this one pixel at a
+// time (FillTriangleScalar). Measured with `mcpose bench` (BENCHMARKS.md machine): 4 is as fast
+// as 1-3 everywhere and 6 % faster than 6 on the mustard bottle at pixel stride 2; 10 is slower.
+inline constexpr int32_t kMinSimdRowPx = 4;
 // Slack (floats) the SIMD kernel needs after the last z-buffer pixel: the widest vector.
 inline constexpr size_t kSimdPadFloats = 64;
 
