@@ -273,6 +273,20 @@ TEST(RasterCoresRealData, ClusterCullingGivesTheSameCounts) {
   EXPECT_GT(dropped_clusters, 1000);
 }
 
+TEST(RasterCores, BoxStrideKeepsTheGridWithinItsBudget) {
+  EstimatorOptions o;
+  o.pixel_stride = 2;
+  o.max_grid_pixels = 6000;
+  EXPECT_EQ(engine::BoxStride(render::PixelRect{0, 0, 100, 100}, o), 2);  // 2 500 grid pixels
+  EXPECT_EQ(engine::BoxStride(render::PixelRect{0, 0, 200, 200}, o), 3);  // 10 000 at 2, 4 489 at 3
+  EXPECT_EQ(engine::BoxStride(render::PixelRect{10, 20, 650, 500}, o), 8);  // 640 x 480: 4 800 at 8
+  o.max_grid_pixels = 0;
+  EXPECT_EQ(engine::BoxStride(render::PixelRect{0, 0, 640, 480}, o), 2);
+  o.pixel_stride = 1;
+  o.max_grid_pixels = 1;
+  EXPECT_EQ(engine::BoxStride(render::PixelRect{0, 0, 640, 480}, o), 16);  // the largest stride
+}
+
 TEST(Lod, SelectPicksTheCoarsestLevelWithinBudget) {
   Mesh m;
   // A finely tessellated unit square (flat: simplifies to very few triangles at zero error).

@@ -121,6 +121,7 @@ Status RunBenchCommand(BenchArgs& a) {
                            {{"engine", RasterBackendName(o.backend)},
                             {"lod_px", o.lod_error_px},
                             {"pixel_stride", o.pixel_stride},
+                            {"max_grid_pixels", o.max_grid_pixels},
                             {"cluster_culling", o.cluster_culling},
                             {"samples", o.samples},
                             {"iterations", a.options.iterations},
@@ -150,6 +151,7 @@ void AddBenchCommand(CLI::App& app, Status* status) {
   cmd->add_option("--engine", args->engine, "Raster core: scalar, fixed or simd")->capture_default_str();
   cmd->add_option("--lod-px", o.lod_error_px, "Level-of-detail budget in pixels; 0 = full mesh")->capture_default_str();
   cmd->add_option("--pixel-stride", o.pixel_stride, "Score every s-th pixel in x and y of each box")->capture_default_str();
+  cmd->add_option("--max-grid-pixels", o.max_grid_pixels, "Coarser stride for boxes with more grid pixels; 0 = none")->capture_default_str();
   cmd->add_flag("--cluster-culling,!--no-cluster-culling", o.cluster_culling,
                 "Drop whole triangle clusters before setup (default on)");
   cmd->add_option("--seed", o.seed, "Random seed")->capture_default_str();

@@ -130,6 +130,7 @@ Status RunEstimate(EstimateArgs& a) {
                             {"lod_px", o.lod_error_px},
                             {"occlusion_aware", o.occlusion_aware},
                             {"pixel_stride", o.pixel_stride},
+                            {"max_grid_pixels", o.max_grid_pixels},
                             {"cluster_culling", o.cluster_culling},
                             {"threads", o.threads}}},
                           {"objects", objects}};
@@ -180,6 +181,7 @@ void AddEstimateCommand(CLI::App& app, Status* status) {
   cmd->add_option("--init-depth-quantile", o.init_depth_quantile, "Quantile of the box's valid depths for the initial distance")->capture_default_str();
   cmd->add_option("--engine", args->engine, "Raster core: scalar (float reference), fixed (1/16-pixel fixed point) or simd (fixed point, Highway rows)")->capture_default_str();
   cmd->add_option("--pixel-stride", o.pixel_stride, "Score every s-th pixel in x and y of each box; 1 = every pixel")->capture_default_str();
+  cmd->add_option("--max-grid-pixels", o.max_grid_pixels, "Sample a box with more grid pixels than this at a coarser stride; 0 = no budget")->capture_default_str();
   cmd->add_option("--lod-px", o.lod_error_px, "Level of detail: coarsest simplified mesh within this error in pixels at the box depth; 0 = full mesh")->capture_default_str();
   cmd->add_flag("--occlusion-aware,!--no-occlusion-aware", o.occlusion_aware,
                 "Leave rendered pixels hidden behind observed surfaces out of N_r (default on; --no-occlusion-aware: the paper's N_r)");

@@ -134,9 +134,8 @@ StatusOr<std::vector<BenchObject>> RunBench(const Dataset& ds, const BenchOption
 
     // ---- Render + inlier on the initial hypotheses: mcpose and the baselines -------------
     std::vector<engine::BoxDepth> boxes;
-    boxes.push_back(engine::DistributeDepth(frame.depth, K, engine::ClipBox(r.box.x, r.box.y, r.box.w, r.box.h,
-                                                                            K.width, K.height),
-                                            1.0, InlierMode::k1D, eo.pixel_stride));
+    const render::PixelRect rect = engine::ClipBox(r.box.x, r.box.y, r.box.w, r.box.h, K.width, K.height);
+    boxes.push_back(engine::DistributeDepth(frame.depth, K, rect, 1.0, InlierMode::k1D, engine::BoxStride(rect, eo)));
     filter::ParticleSet particles;
     engine::InitializeSamples(K, mesh, std::span(&r.box, 1), boxes, eo, GroupStreamId(r.frame.scene_id, r.frame.image_id, obj_id),
                               &particles);

@@ -93,9 +93,9 @@ StatusOr<ObjectEstimate> Estimator::Estimate(const Intrinsics& K, const DepthIma
   // ---- Depth distributor: each box's observed depth, read once ---------------------------
   std::vector<engine::BoxDepth> box_depth;
   for (const Detection& d : boxes) {
-    box_depth.push_back(engine::DistributeDepth(
-        depth, K, engine::ClipBox(d.x, d.y, d.w, d.h, K.width, K.height), d.score, opt.inlier_mode,
-        opt.pixel_stride));
+    const render::PixelRect rect = engine::ClipBox(d.x, d.y, d.w, d.h, K.width, K.height);
+    box_depth.push_back(
+        engine::DistributeDepth(depth, K, rect, d.score, opt.inlier_mode, engine::BoxStride(rect, opt)));
   }
 
   // ---- Initialize: samples over boxes in proportion to score -----------------------------

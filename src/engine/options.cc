@@ -42,6 +42,7 @@ bool EstimatorOptions::IsValid(std::string* error) const {
     return Fail(error, "lod_error_px must be finite and >= 0 (0 = full mesh)");
   if (pixel_stride < 1 || pixel_stride > 16)
     return Fail(error, "pixel_stride must lie in [1, 16], got " + std::to_string(pixel_stride));
+  if (max_grid_pixels < 0) return Fail(error, "max_grid_pixels must be >= 0 (0 = no budget)");
   if (threads < 0) return Fail(error, "threads must be >= 0 (0 = all hardware threads)");
   return true;
 }

@@ -31,6 +31,7 @@ TEST(EstimatorOptions, EachInvalidFieldIsNamed) {
       {[](EstimatorOptions& o) { o.keep_top_fraction = 0; }, "keep_top_fraction"},
       {[](EstimatorOptions& o) { o.pixel_stride = 0; }, "pixel_stride"},
       {[](EstimatorOptions& o) { o.pixel_stride = 17; }, "pixel_stride"},
+      {[](EstimatorOptions& o) { o.max_grid_pixels = -1; }, "max_grid_pixels"},
       {[](EstimatorOptions& o) { o.cdf_table_size = 0; }, "cdf_table_size"},
       {[](EstimatorOptions& o) { o.anneal = 1.5; }, "anneal"},
       {[](EstimatorOptions& o) { o.sigma_r_rad = -1; }, "sigma"},

@@ -46,6 +46,14 @@ BoxDepth DistributeDepth(const DepthImage& depth, const Intrinsics& K, const ren
   return b;
 }
 
+int BoxStride(const render::PixelRect& rect, const EstimatorOptions& options) {
+  int s = std::max(1, options.pixel_stride);
+  if (options.max_grid_pixels <= 0) return s;
+  auto grid = [&](int k) { return int64_t{(rect.width() + k - 1) / k} * ((rect.height() + k - 1) / k); };
+  while (grid(s) > options.max_grid_pixels && s < 16) ++s;
+  return s;
+}
+
 int64_t UnionSamples(std::span<const BoxDepth* const> boxes) {
   if (boxes.empty()) return 0;
   render::PixelRect u = boxes[0]->image_rect;

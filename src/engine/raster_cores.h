@@ -45,6 +45,10 @@ render::PixelRect ClipBox(double x, double y, double w, double h, int width, int
 BoxDepth DistributeDepth(const DepthImage& depth, const Intrinsics& K, const render::PixelRect& rect,
                          double score, InlierMode mode, int stride = 1);
 
+// The pixel stride of a box: options.pixel_stride, or the smallest larger one whose grid holds
+// at most options.max_grid_pixels pixels (when that is > 0).
+int BoxStride(const render::PixelRect& rect, const EstimatorOptions& options);
+
 // Distinct image pixels read by the depth distributor for these boxes: the union of their
 // sample grids (at stride 1, the union of their rects).
 int64_t UnionSamples(std::span<const BoxDepth* const> boxes);
