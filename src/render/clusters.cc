@@ -18,11 +18,11 @@ ClusterSet ClusterSet::Build(const Mesh& mesh) {
   std::vector<unsigned int> meshlet_vertices(max_meshlets * kMaxVertices);
   std::vector<unsigned char> meshlet_triangles(max_meshlets * kMaxTriangles * 3);
   const float* positions = mesh.vertices_m.data()->data();
-  const size_t n = meshopt_buildMeshlets(meshlets.data(), meshlet_vertices.data(), meshlet_triangles.data(),
+  const size_t count = meshopt_buildMeshlets(meshlets.data(), meshlet_vertices.data(), meshlet_triangles.data(),
                                          indices.data(), indices.size(), positions, mesh.vertices_m.size(),
                                          sizeof(Eigen::Vector3f), kMaxVertices, kMaxTriangles, /*cone_weight=*/0.5f);
   out.triangles.reserve(mesh.triangles.size());
-  for (size_t m = 0; m < n; ++m) {
+  for (size_t m = 0; m < count; ++m) {
     const meshopt_Meshlet& ml = meshlets[m];
     const meshopt_Bounds b = meshopt_computeMeshletBounds(
         &meshlet_vertices[ml.vertex_offset], &meshlet_triangles[ml.triangle_offset], ml.triangle_count, positions,
@@ -46,12 +46,12 @@ ClusterSet ClusterSet::Build(const Mesh& mesh) {
                                            meshlet_vertices[ml.vertex_offset + lt[1]],
                                            meshlet_vertices[ml.vertex_offset + lt[2]]};
       out.triangles.push_back(tri);
-      const Eigen::Vector3d a = mesh.vertices_m[tri[0]].cast<double>(), b = mesh.vertices_m[tri[1]].cast<double>(),
-                            d = mesh.vertices_m[tri[2]].cast<double>();
-      const Eigen::Vector3d n = (b - a).cross(d - a);
-      const double edge2 = std::max({(b - a).squaredNorm(), (d - a).squaredNorm(), (d - b).squaredNorm()});
+      const Eigen::Vector3d p0 = mesh.vertices_m[tri[0]].cast<double>(), p1 = mesh.vertices_m[tri[1]].cast<double>(),
+                            p2 = mesh.vertices_m[tri[2]].cast<double>();
+      const Eigen::Vector3d normal = (p1 - p0).cross(p2 - p0);
+      const double edge2 = std::max({(p1 - p0).squaredNorm(), (p2 - p0).squaredNorm(), (p2 - p1).squaredNorm()});
       // Slivers: area below 1% of the longest edge squared.
-      if (!(n.norm() > 0.01 * edge2) || n.normalized().dot(c.cone_axis.cast<double>()) < cos_half - 1e-6)
+      if (!(normal.norm() > 0.01 * edge2) || normal.normalized().dot(c.cone_axis.cast<double>()) < cos_half - 1e-6)
         cone_holds = false;
     }
     if (!cone_holds) c.cone_cutoff = 1.0f;
