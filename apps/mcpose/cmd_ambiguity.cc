@@ -16,7 +16,10 @@ struct AmbiguityArgs {
   analysis::AmbiguityOptions options;
 };
 
-void Progress(int done, int total) { std::fprintf(stderr, "\rframes %d/%d", done, total); if (done == total) std::fprintf(stderr, "\n"); }
+void Progress(int done, int total) {
+  std::fprintf(stderr, "\rframes %d/%d", done, total);
+  if (done == total) std::fprintf(stderr, "\n");
+}
 
 Status RunAmbiguity(const AmbiguityArgs& a) {
   if (!a.json.empty()) MCPOSE_RETURN_IF_ERROR(CheckWritable(a.json));

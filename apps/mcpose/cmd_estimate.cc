@@ -167,9 +167,11 @@ void AddEstimateCommand(CLI::App& app, Status* status) {
   cmd->add_option("--seed", o.seed, "Random seed; same seed, same results at any thread count")->capture_default_str();
   cmd->add_option("--inlier", args->inlier, "Inlier test: 1d (|z_r - z_o| < eps) or 3d (nearest observed point)")->capture_default_str();
   cmd->add_option("--eps", o.eps_m, "Inlier threshold, metres")->capture_default_str();
-  cmd->add_option("--weights", args->weights, "Weight coefficients a b c (sum 1): w = a N/N_b + b N/N_r + c score (default " +
-                      std::to_string(o.weight_a).substr(0, 4) + " " + std::to_string(o.weight_b).substr(0, 4) + " " +
-                      std::to_string(o.weight_c).substr(0, 4) + ")")->expected(3);
+  char weights_help[128];
+  std::snprintf(weights_help, sizeof weights_help,
+                "Weight coefficients a b c (sum 1): w = a N/N_b + b N/N_r + c score (default %.2f %.2f %.2f)",
+                o.weight_a, o.weight_b, o.weight_c);
+  cmd->add_option("--weights", args->weights, weights_help)->expected(3);
   cmd->add_option("--keep-top", o.keep_top_fraction, "Resample from this best fraction of samples, (0, 1]")->capture_default_str();
   cmd->add_option("--cdf-table", o.cdf_table_size, "Entries of the coarse CDF threshold table")->capture_default_str();
   cmd->add_option("--sigma-t", o.sigma_t_m, "Diffusion: translation sigma at iteration 0, metres")->capture_default_str();
@@ -180,7 +182,7 @@ void AddEstimateCommand(CLI::App& app, Status* status) {
   cmd->add_option("--init-sigma-t", o.init_sigma_t_m, "Initial translation jitter, metres")->capture_default_str();
   cmd->add_option("--init-depth-quantile", o.init_depth_quantile, "Quantile of the box's valid depths for the initial distance")->capture_default_str();
   cmd->add_option("--engine", args->engine, "Raster core: scalar (float reference), fixed (1/16-pixel fixed point) or simd (fixed point, Highway rows)")->capture_default_str();
-  cmd->add_option("--pixel-stride", o.pixel_stride, "Score every s-th pixel in x and y of each box; 1 = every pixel")->capture_default_str();
+  cmd->add_option("--pixel-stride", o.pixel_stride, "Score every s-th pixel in x and y of each box; 1 with --max-grid-pixels 0 = every pixel")->capture_default_str();
   cmd->add_option("--max-grid-pixels", o.max_grid_pixels, "Sample a box with more grid pixels than this at a coarser stride; 0 = no budget")->capture_default_str();
   cmd->add_option("--lod-px", o.lod_error_px, "Level of detail: coarsest simplified mesh within this error in pixels at the box depth; 0 = full mesh")->capture_default_str();
   cmd->add_flag("--occlusion-aware,!--no-occlusion-aware", o.occlusion_aware,

@@ -70,8 +70,8 @@ struct EstimatorOptions {
   double anneal = 0.93;            // per-iteration factor, (0, 1]
 
   // --- Engine ---------------------------------------------------------------------------
-  // The default is the fast engine; kScalar with lod_error_px = 0 is the reference (the test
-  // oracle). On the 108 real instances both give the same accuracy within the seed-to-seed
+  // The default is the fast engine; kScalar with lod_error_px = 0, pixel_stride = 1 and
+  // max_grid_pixels = 0 is the reference on every pixel (the test oracle). On the 108 real instances both give the same accuracy within the seed-to-seed
   // spread (README, accuracy).
   RasterBackend backend = RasterBackend::kSimd;
   // Level of detail: each box renders the coarsest meshoptimizer simplification whose
@@ -84,7 +84,7 @@ struct EstimatorOptions {
   bool cluster_culling = true;
   // Pixel stride: score each box on every pixel_stride-th pixel in x and y (the same rays,
   // pixel_stride^2 times fewer; engine/raster_cores.h); the LOD budget is in these raster
-  // pixels. 1 = every pixel, as the paper. 2 halves the iteration time with the same accuracy
+  // pixels. 1 (with max_grid_pixels = 0) = every pixel, as the paper. 2 halves the iteration time with the same accuracy
   // on the 108 real instances within the seed-to-seed spread (README, accuracy).
   int pixel_stride = 2;
   // Grid budget: a box with more than this many grid pixels at pixel_stride is sampled more

@@ -1,10 +1,10 @@
 #include "analysis/depth_ambiguity.h"
 
-#include <cmath>
 #include <array>
+#include <cmath>
 #include <map>
-#include <set>
 #include <numbers>
+#include <set>
 
 #include <Eigen/Geometry>
 
