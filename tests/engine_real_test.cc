@@ -227,7 +227,8 @@ TEST(RasterCoresRealData, StrideTwoGridMatchesTheFullRenderAtTheGridPixels) {
 // Cluster culling drops whole clusters before setup; the inlier counts must be exactly those of
 // the per-triangle path, for the fixed and SIMD cores, every LOD level, at strides 1 and 2, on a
 // box that shows all of the mustard bottle and one that shows part of the tomato soup can
-// (3/138). The cone test is not exact at the fragment level: here it drops 1 covered pixel in
+// (3/138); and batched triangle setup must match per-triangle setup exactly, counters included.
+// The cone test is not exact at the fragment level: here it drops 1 covered pixel in
 // 0.5-2 million (a triangle the per-triangle path rasterized), so fragments agree to 1e-5.
 TEST(RasterCoresRealData, ClusterCullingGivesTheSameCounts) {
   int64_t dropped_clusters = 0;
@@ -266,6 +267,18 @@ TEST(RasterCoresRealData, ClusterCullingGivesTheSameCounts) {
           EXPECT_LE(clustered_stats.fragments, plain_stats.fragments);
           EXPECT_EQ(clustered_stats.triangles, plain_stats.triangles);
           dropped_clusters += clustered_stats.clusters_culled_backface + clustered_stats.clusters_culled_outside_box;
+          // Batched setup (the default above) against the per-triangle setup: identical.
+          job.batched_setup = false;
+          std::vector<score::InlierCounts> per_triangle(particles.size());
+          render::RasterStats per_triangle_stats;
+          cores.Score(job, particles, per_triangle, &per_triangle_stats);
+          EXPECT_EQ(per_triangle, clustered) << "obj " << obj_id << " stride " << stride << " level " << level;
+          EXPECT_EQ(per_triangle_stats.fragments, clustered_stats.fragments);
+          EXPECT_EQ(per_triangle_stats.rasterized, clustered_stats.rasterized);
+          EXPECT_EQ(per_triangle_stats.culled_backface, clustered_stats.culled_backface);
+          EXPECT_EQ(per_triangle_stats.culled_outside_box, clustered_stats.culled_outside_box);
+          EXPECT_EQ(per_triangle_stats.culled_between_pixels, clustered_stats.culled_between_pixels);
+          EXPECT_EQ(per_triangle_stats.culled_degenerate, clustered_stats.culled_degenerate);
         }
       }
     }

@@ -123,6 +123,7 @@ Status RunBenchCommand(BenchArgs& a) {
                             {"pixel_stride", o.pixel_stride},
                             {"max_grid_pixels", o.max_grid_pixels},
                             {"cluster_culling", o.cluster_culling},
+                            {"batched_setup", o.batched_setup},
                             {"samples", o.samples},
                             {"iterations", a.options.iterations},
                             {"render_repeats", a.options.render_repeats},
@@ -154,6 +155,8 @@ void AddBenchCommand(CLI::App& app, Status* status) {
   cmd->add_option("--max-grid-pixels", o.max_grid_pixels, "Coarser stride for boxes with more grid pixels; 0 = none")->capture_default_str();
   cmd->add_flag("--cluster-culling,!--no-cluster-culling", o.cluster_culling,
                 "Drop whole triangle clusters before setup (default on)");
+  cmd->add_flag("--batched-setup,!--no-batched-setup", o.batched_setup,
+                "Classify triangles a SIMD vector at a time before setup (default on)");
   cmd->add_option("--seed", o.seed, "Random seed")->capture_default_str();
   cmd->add_option("--baselines", args->baselines, "Comma-separated: embree,osmesa (same hypotheses, same boxes)");
   cmd->add_option("--json", args->json, "Write {machine, options, objects: [...]} here");

@@ -82,6 +82,10 @@ struct EstimatorOptions {
   // to 64 triangles that lie outside the box or face away, before triangle setup; the same
   // inlier counts as culling triangle by triangle in the tests (render/clusters.h).
   bool cluster_culling = true;
+  // Batched triangle setup (fixed and simd engines): snap each sample's vertices once and
+  // decide back-facing, outside-box and between-pixel triangles a SIMD vector at a time, leaving
+  // the per-triangle fixed-point setup to the rest. Bit-identical z-buffers and counters.
+  bool batched_setup = true;
   // Pixel stride: score each box on every pixel_stride-th pixel in x and y (the same rays,
   // pixel_stride^2 times fewer; engine/raster_cores.h); the LOD budget is in these raster
   // pixels. 1 (with max_grid_pixels = 0) = every pixel, as the paper. 2 halves the iteration time with the same accuracy

@@ -153,6 +153,7 @@ StatusOr<std::vector<BenchObject>> RunBench(const Dataset& ds, const BenchOption
     job.boxes = boxes;
     job.eps_m = static_cast<float>(eo.eps_m);
     job.cull_backfaces = eo.backface_culling;
+    job.batched_setup = eo.batched_setup;
     std::vector<score::InlierCounts> counts(particles.size());
     std::vector<double> times;
     for (int k = 0; k < options.render_repeats; ++k) {

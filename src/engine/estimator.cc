@@ -130,6 +130,7 @@ StatusOr<ObjectEstimate> Estimator::Estimate(const Intrinsics& K, const DepthIma
   job.inlier_mode = opt.inlier_mode;
   job.eps_m = static_cast<float>(opt.eps_m);
   job.cull_backfaces = opt.backface_culling;
+  job.batched_setup = opt.batched_setup;
 
   std::vector<score::InlierCounts> counts(n);
   filter::CdfSampler sampler;

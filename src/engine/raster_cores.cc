@@ -126,8 +126,14 @@ void RasterCores::Score(const ScoreJob& job, const filter::ParticleSet& particle
           const render::RowKernel rows =
               backend_ == RasterBackend::kSimd ? render::RowKernel::kSimd : render::RowKernel::kScalar;
           const render::ClusterSet* clusters = job.box_clusters.empty() ? nullptr : job.box_clusters[particles.box[i]];
+          render::SnappedVertices* snapped = nullptr;
+          if (job.batched_setup) {
+            render::SnapVertices(vertices, params, &s.snapped);
+            snapped = &s.snapped;
+          }
           if (!clusters) {
-            render::RasterizeDepthFixedPoint(vertices, mesh.triangles, params, s.zbuf.data(), &s.stats, rows);
+            render::RasterizeDepthFixedPoint(vertices, mesh.triangles, params, s.zbuf.data(), &s.stats, rows,
+                                             snapped);
             break;
           }
           const Eigen::Vector3f camera_in_model = -(R.transpose() * t);
@@ -145,7 +151,7 @@ void RasterCores::Score(const ScoreJob& job, const filter::ParticleSet& particle
               case render::ClusterCull::kKeep:
                 render::RasterizeDepthFixedPoint(
                     vertices, std::span(clusters->triangles).subspan(c.first, c.count), params, s.zbuf.data(),
-                    &s.stats, rows);
+                    &s.stats, rows, snapped);
                 break;
             }
           }

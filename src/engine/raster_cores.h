@@ -14,6 +14,7 @@
 #include "mcpose/mesh.h"
 #include "mcpose/options.h"
 #include "render/clusters.h"
+#include "render/raster_fixed.h"
 #include "render/raster.h"
 #include "score/inlier.h"
 
@@ -66,6 +67,9 @@ struct ScoreJob {
   InlierMode inlier_mode = InlierMode::k1D;
   float eps_m = 0.01f;
   bool cull_backfaces = true;
+  // Fixed-point and SIMD cores: snap each sample's vertices once and classify its triangles a
+  // vector at a time before the per-triangle setup (render/setup_simd.cc); the same results.
+  bool batched_setup = true;
 };
 
 class RasterCores {
@@ -84,6 +88,7 @@ class RasterCores {
   struct Scratch {
     std::vector<render::ScreenVertex> vertices;
     std::vector<float> zbuf;
+    render::SnappedVertices snapped;
     render::RasterStats stats;
   };
   ThreadPool pool_;

@@ -3,7 +3,8 @@
 //   BM_ScoreIteration  render + inlier counting of one iteration, grid {object, engine, LOD,
 //                      threads, samples, pixel stride}
 //   BM_TriangleSetup   fixed-point triangle setup alone (snap, cull, edge functions, 1/z plane)
-//                      over the LOD mesh of every sample, grid {object, threads, samples}
+//                      over the LOD mesh of every sample, per triangle or batched (SIMD
+//                      classification first), grid {object, threads, samples, batched}
 //   BM_Resample        sort + threshold table + N draws (the paper's resampler), grid {samples}
 //   build/mcpose_benchmarks --benchmark_filter=ScoreIteration
 #include <cstdlib>
@@ -135,14 +136,28 @@ void BM_TriangleSetup(benchmark::State& state) {
                             std::span(projected.data() + i * nv, nv));
   ThreadPool pool(static_cast<int>(state.range(1)));
   std::vector<int64_t> ready(static_cast<size_t>(pool.size()));
+  const bool batched = state.range(3) != 0;
+  std::vector<render::SnappedVertices> snapped(static_cast<size_t>(pool.size()));
   for (auto _ : state) {
     pool.ParallelFor(static_cast<int64_t>(n), [&](int64_t b, int64_t e, int worker) {
       render::FixedTriangle ft;
+      render::SnappedVertices& sv = snapped[static_cast<size_t>(worker)];
+      render::RasterStats stats;
       int64_t k = 0;
       for (int64_t i = b; i < e; ++i) {
         const render::ScreenVertex* v = projected.data() + i * nv;
-        for (const auto& t : mesh.triangles)
+        if (!batched) {
+          for (const auto& t : mesh.triangles)
+            k += render::SetupFixedTriangle(v[t[0]], v[t[1]], v[t[2]], p, &ft) == render::TriangleSetup::kReady;
+          continue;
+        }
+        // Batched: snap once, classify a vector at a time, set up the survivors one by one.
+        render::SnapVertices(std::span(v, nv), p, &sv);
+        const size_t kept = render::ClassifyTriangles(sv, mesh.triangles, p, &stats, &sv.survivors);
+        for (size_t j = 0; j < kept; ++j) {
+          const auto& t = mesh.triangles[sv.survivors[j]];
           k += render::SetupFixedTriangle(v[t[0]], v[t[1]], v[t[2]], p, &ft) == render::TriangleSetup::kReady;
+        }
       }
       ready[static_cast<size_t>(worker)] += k;
       benchmark::DoNotOptimize(ft);
@@ -150,21 +165,22 @@ void BM_TriangleSetup(benchmark::State& state) {
   }
   int64_t total_ready = 0;
   for (int64_t r : ready) total_ready += r;
-  state.SetLabel("obj " + std::to_string(obj_id) + ", " + std::to_string(mesh.triangles.size()) + " triangles");
+  state.SetLabel("obj " + std::to_string(obj_id) + ", " + std::to_string(mesh.triangles.size()) + " triangles" +
+                 (batched ? ", batched" : ""));
   state.counters["triangles_per_s"] = benchmark::Counter(static_cast<double>(n * mesh.triangles.size()),
                                                          benchmark::Counter::kIsIterationInvariantRate);
   state.counters["ready_share"] =
       static_cast<double>(total_ready) / (static_cast<double>(state.iterations()) * n * mesh.triangles.size());
 }
 BENCHMARK(BM_TriangleSetup)
-    ->ArgNames({"object", "threads", "samples"})
-    ->ArgsProduct({{0, 1, 2, 3, 4}, {1, 2}, {620}})
+    ->ArgNames({"object", "threads", "samples", "batched"})
+    ->ArgsProduct({{0, 1, 2, 3, 4}, {1, 2}, {620}, {0, 1}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->MinTime(0.5);
 BENCHMARK(BM_TriangleSetup)
-    ->ArgNames({"object", "threads", "samples"})
-    ->ArgsProduct({{2}, {1, 2}, {155, 2480}})
+    ->ArgNames({"object", "threads", "samples", "batched"})
+    ->ArgsProduct({{2}, {1, 2}, {155, 2480}, {0, 1}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->MinTime(0.5);

@@ -7,9 +7,7 @@ namespace mcpose::render {
 
 namespace {
 
-constexpr int32_t kOne = 1 << kSubpixelBits;     // one pixel in fixed point
-constexpr float kGuardBandPx = 16384.f;          // |coordinate - box| beyond this: float path
-constexpr int32_t kMaxSpanPx = 2048;             // bigger triangles: float path
+constexpr int32_t kOne = kSubpixelOne;
 
 }  // namespace
 
@@ -121,38 +119,53 @@ TriangleSetup SetupFixedTriangle(const ScreenVertex& v0, const ScreenVertex& v1,
   return TriangleSetup::kReady;
 }
 
+namespace {
+
+// Setup and rows of one triangle (triangles[t]), counted in *s.
+inline void RasterizeOne(std::span<const ScreenVertex> vertices, std::span<const std::array<uint32_t, 3>> triangles,
+                         size_t t, const RasterParams& params, float* zbuf, int stride, RowKernel rows,
+                         RasterStats* s) {
+  const auto& tri = triangles[t];
+  FixedTriangle ft;
+  switch (SetupFixedTriangle(vertices[tri[0]], vertices[tri[1]], vertices[tri[2]], params, &ft)) {
+    case TriangleSetup::kCulledNear: ++s->culled_near; return;
+    case TriangleSetup::kCulledDegenerate: ++s->culled_degenerate; return;
+    case TriangleSetup::kCulledBackface: ++s->culled_backface; return;
+    case TriangleSetup::kCulledOutsideBox: ++s->culled_outside_box; return;
+    case TriangleSetup::kCulledBetweenPixels: ++s->culled_between_pixels; return;
+    case TriangleSetup::kFloatPath:
+      RasterizeDepthReference(vertices, triangles.subspan(t, 1), params, zbuf, s);
+      --s->triangles;  // counted once by the caller
+      return;
+    case TriangleSetup::kReady: break;
+  }
+  // Walk the bounding box: a vector of pixels at a time where the edge functions fit in 32
+  // bits and rows are wide enough to fill one; tiny triangles (full meshes far away) are
+  // cheaper one pixel at a time. Both kernels give bit-identical results.
+  const bool simd = rows == RowKernel::kSimd && ft.simd_fits && ft.x_hi - ft.x_lo + 1 >= kMinSimdRowPx;
+  const int64_t covered = simd ? FillTriangleSimd(ft, zbuf, stride) : FillTriangleScalar(ft, zbuf, stride);
+  if (covered == 0) {
+    ++s->culled_between_pixels;
+  } else {
+    ++s->rasterized;
+    s->fragments += covered;
+  }
+}
+
+}  // namespace
+
 void RasterizeDepthFixedPoint(std::span<const ScreenVertex> vertices,
-                              std::span<const std::array<uint32_t, 3>> triangles,
-                              const RasterParams& params, float* zbuf, RasterStats* stats, RowKernel rows) {
+                              std::span<const std::array<uint32_t, 3>> triangles, const RasterParams& params,
+                              float* zbuf, RasterStats* stats, RowKernel rows, SnappedVertices* snapped) {
   const int stride = params.box.width();
   RasterStats s;
   s.triangles = static_cast<int64_t>(triangles.size());
-  FixedTriangle ft;
-  for (size_t t = 0; t < triangles.size(); ++t) {
-    const auto& tri = triangles[t];
-    switch (SetupFixedTriangle(vertices[tri[0]], vertices[tri[1]], vertices[tri[2]], params, &ft)) {
-      case TriangleSetup::kCulledNear: ++s.culled_near; continue;
-      case TriangleSetup::kCulledDegenerate: ++s.culled_degenerate; continue;
-      case TriangleSetup::kCulledBackface: ++s.culled_backface; continue;
-      case TriangleSetup::kCulledOutsideBox: ++s.culled_outside_box; continue;
-      case TriangleSetup::kCulledBetweenPixels: ++s.culled_between_pixels; continue;
-      case TriangleSetup::kFloatPath:
-        RasterizeDepthReference(vertices, triangles.subspan(t, 1), params, zbuf, &s);
-        --s.triangles;  // counted once above
-        continue;
-      case TriangleSetup::kReady: break;
-    }
-    // Walk the bounding box: a vector of pixels at a time where the edge functions fit in 32
-    // bits and rows are wide enough to fill one; tiny triangles (full meshes far away) are
-    // cheaper one pixel at a time. Both kernels give bit-identical results.
-    const bool simd = rows == RowKernel::kSimd && ft.simd_fits && ft.x_hi - ft.x_lo + 1 >= kMinSimdRowPx;
-    const int64_t covered = simd ? FillTriangleSimd(ft, zbuf, stride) : FillTriangleScalar(ft, zbuf, stride);
-    if (covered == 0) {
-      ++s.culled_between_pixels;
-    } else {
-      ++s.rasterized;
-      s.fragments += covered;
-    }
+  if (snapped) {
+    const size_t kept = ClassifyTriangles(*snapped, triangles, params, &s, &snapped->survivors);
+    for (size_t j = 0; j < kept; ++j)
+      RasterizeOne(vertices, triangles, snapped->survivors[j], params, zbuf, stride, rows, &s);
+  } else {
+    for (size_t t = 0; t < triangles.size(); ++t) RasterizeOne(vertices, triangles, t, params, zbuf, stride, rows, &s);
   }
   if (stats) *stats += s;
 }

@@ -13,12 +13,16 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "render/raster.h"
 
 namespace mcpose::render {
 
 inline constexpr int kSubpixelBits = 4;
+inline constexpr int32_t kSubpixelOne = 1 << kSubpixelBits;  // one pixel in fixed point
+inline constexpr float kGuardBandPx = 16384.f;  // |coordinate - box corner| beyond this: float path
+inline constexpr int32_t kMaxSpanPx = 2048;     // triangles wider or taller than this: float path
 // Triangles whose bounding box spans at most this many pixels per side have edge functions
 // that fit in 32 bits (|E| < 2^30), so the SIMD row kernel can take them.
 inline constexpr int32_t kMaxSimdSpanPx = 1024;
@@ -70,10 +74,32 @@ int64_t FillTriangleSimd(const FixedTriangle& t, float* zbuf, int stride);
 
 enum class RowKernel { kScalar, kSimd };
 
+// Batched triangle setup (render/setup_simd.cc, Highway, runtime-dispatched once per call):
+// the vertices of one sample snapped once, then the triangles classified a vector at a time.
+inline constexpr int32_t kVertexNear = 1;         // z < params.z_near_m
+inline constexpr int32_t kVertexOutsideBand = 2;  // outside the guard band, or not finite
+struct SnappedVertices {
+  std::vector<int32_t> x, y;   // box-relative, 1/16 pixel, as SetupFixedTriangle snaps them
+  std::vector<int32_t> flags;  // kVertexNear | kVertexOutsideBand
+  std::vector<uint32_t> survivors;  // ClassifyTriangles' output buffer
+};
+void SnapVertices(std::span<const ScreenVertex> vertices, const RasterParams& params, SnappedVertices* out);
+// Decides every triangle whose fate the snapped integers make certain: near, back-facing,
+// outside the box, between pixel centres. Each gets the reason SetupFixedTriangle gives it
+// (tested), counted in *stats (not `triangles`). Writes the indices into `triangles` of the
+// rest (front-facing ones that reach a pixel centre, degenerate or nearly degenerate ones,
+// float-path ones) to (*survivors)[0, returned count), in increasing order.
+size_t ClassifyTriangles(const SnappedVertices& snapped, std::span<const std::array<uint32_t, 3>> triangles,
+                         const RasterParams& params, RasterStats* stats, std::vector<uint32_t>* survivors);
+
+// Renders the triangles. With `snapped` (SnapVertices of these vertices and params), setup is
+// batched: ClassifyTriangles first, SetupFixedTriangle for its survivors only; the z-buffer
+// and every statistic are identical to the per-triangle setup (triangle order does not change
+// a z-buffer of minima or the counts).
 void RasterizeDepthFixedPoint(std::span<const ScreenVertex> vertices,
                               std::span<const std::array<uint32_t, 3>> triangles,
                               const RasterParams& params, float* zbuf, RasterStats* stats,
-                              RowKernel rows = RowKernel::kScalar);
+                              RowKernel rows = RowKernel::kScalar, SnappedVertices* snapped = nullptr);
 // With RowKernel::kSimd, zbuf must have kSimdPadFloats of slack after the box.
 
 // The Highway targets compiled in and supported by this CPU, e.g. "AVX2 SSE4 EMU128".

@@ -1,0 +1,179 @@
+// Batched triangle setup (setup_simd.cc) against its reference, SetupFixedTriangle, on every
+// Highway target this CPU supports: the same snapped vertices, the same cull reason for every
+// triangle it decides, and bit-identical z-buffers and statistics when rasterizing.
+#include <cmath>
+#include <cstring>
+#include <random>
+#include <set>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <hwy/targets.h>
+
+#include "render/raster.h"
+#include "render/raster_fixed.h"
+
+namespace mcpose::render {
+namespace {
+
+RasterParams Params(bool cull) {
+  RasterParams p;
+  p.fx = 1066.778f, p.fy = 1067.487f, p.cx = 312.9869f, p.cy = 241.3109f;
+  p.box = PixelRect{200, 150, 420, 330};
+  p.cull_backfaces = cull;
+  return p;
+}
+
+struct ScreenScene {
+  std::vector<ScreenVertex> vertices;
+  std::vector<std::array<uint32_t, 3>> triangles;
+};
+
+// Screen-space triangles of every kind setup meets: sub-pixel to hundreds of pixels, inside,
+// across and outside the box, wider than the fixed-point span, outside the guard band, not
+// finite, behind the near plane, degenerate, and vertices on exact sub-pixel rounding ties.
+ScreenScene RandomScreenScene(std::mt19937_64& gen, int n, const PixelRect& box) {
+  std::uniform_real_distribution<float> cu(box.x0 - 60.f, box.x1 + 60.f), cv(box.y0 - 60.f, box.y1 + 60.f);
+  std::uniform_real_distribution<float> z(0.3f, 1.5f), unit(-1.f, 1.f);
+  std::uniform_int_distribution<int> kind(0, 19), tie(-4000, 4000);
+  const float sizes[] = {0.3f, 1.f, 2.5f, 8.f, 40.f, 300.f};
+  ScreenScene s;
+  for (int i = 0; i < n; ++i) {
+    const int k = kind(gen);
+    const float size = sizes[k % 6];
+    const float u0 = cu(gen), v0 = cv(gen);
+    ScreenVertex p[3];
+    for (auto& q : p) q = {u0 + size * unit(gen), v0 + size * unit(gen), z(gen)};
+    switch (k) {
+      case 6: p[1].u = p[0].u + 2500.f; break;                          // wider than kMaxSpanPx
+      case 7: p[2].u = 1e6f; break;                                      // outside the guard band
+      case 8: p[1].v = NAN; break;                                       // not finite
+      case 9: p[0].z = 0.01f; break;                                     // near plane
+      case 10: p[2] = p[1]; break;                                       // degenerate: a repeated vertex
+      case 11: p[2] = {2 * p[1].u - p[0].u, 2 * p[1].v - p[0].v, p[2].z}; break;  // collinear
+      case 12:  // rounding ties: coordinates on odd multiples of 1/32 pixel relative to the box
+        for (auto& q : p) q.u = box.x0 + (2 * tie(gen) + 1) / 32.f, q.v = box.y0 + (2 * tie(gen) + 1) / 32.f;
+        break;
+      default: break;
+    }
+    const uint32_t b = static_cast<uint32_t>(s.vertices.size());
+    for (const auto& q : p) s.vertices.push_back(q);
+    s.triangles.push_back({b, b + 1, b + 2});
+  }
+  return s;
+}
+
+struct Counts {
+  int64_t near = 0, backface = 0, outside = 0, between = 0;
+};
+Counts Of(const RasterStats& s) {
+  return {s.culled_near, s.culled_backface, s.culled_outside_box, s.culled_between_pixels};
+}
+
+TEST(BatchedSetup, SnapsAndClassifiesAsSetupFixedTriangleOnEveryTarget) {
+  const std::vector<int64_t> targets = hwy::SupportedAndGeneratedTargets();
+  ASSERT_FALSE(targets.empty());
+  for (int64_t target : targets) {
+    hwy::SetSupportedTargetsForTest(target);
+    std::mt19937_64 gen(7);
+    for (int trial = 0; trial < 8; ++trial) {
+      const RasterParams params = Params(trial % 2 == 0);
+      const ScreenScene s = RandomScreenScene(gen, 997, params.box);  // not a multiple of any vector
+      SnappedVertices snapped;
+      SnapVertices(s.vertices, params, &snapped);
+      const float ox = static_cast<float>(params.box.x0), oy = static_cast<float>(params.box.y0);
+      for (size_t i = 0; i < s.vertices.size(); ++i) {
+        const ScreenVertex& v = s.vertices[i];
+        const bool in_band = std::fabs(v.u - ox) < kGuardBandPx && std::fabs(v.v - oy) < kGuardBandPx;
+        ASSERT_EQ(snapped.flags[i], (v.z < params.z_near_m ? kVertexNear : 0) | (in_band ? 0 : kVertexOutsideBand))
+            << hwy::TargetName(target) << " vertex " << i;
+        if (!in_band) continue;
+        ASSERT_EQ(snapped.x[i], std::lrint((v.u - ox) * kSubpixelOne)) << hwy::TargetName(target) << " vertex " << i;
+        ASSERT_EQ(snapped.y[i], std::lrint((v.v - oy) * kSubpixelOne)) << hwy::TargetName(target) << " vertex " << i;
+      }
+
+      // All triangles in one call: the survivors, in order, and the summed reasons.
+      RasterStats all;
+      std::vector<uint32_t> survivors;
+      const size_t kept = ClassifyTriangles(snapped, s.triangles, params, &all, &survivors);
+      const std::set<uint32_t> kept_set(survivors.begin(), survivors.begin() + kept);
+      ASSERT_EQ(kept_set.size(), kept);
+      for (size_t j = 1; j < kept; ++j) ASSERT_LT(survivors[j - 1], survivors[j]);
+
+      // One triangle per call: which reason it got, against SetupFixedTriangle.
+      Counts expected;
+      int undecided_culls = 0, culls = 0;
+      for (size_t t = 0; t < s.triangles.size(); ++t) {
+        const auto& tri = s.triangles[t];
+        FixedTriangle ft;
+        const TriangleSetup ref =
+            SetupFixedTriangle(s.vertices[tri[0]], s.vertices[tri[1]], s.vertices[tri[2]], params, &ft);
+        RasterStats one;
+        std::vector<uint32_t> one_survivor;
+        const size_t one_kept = ClassifyTriangles(snapped, std::span(s.triangles).subspan(t, 1), params, &one,
+                                                  &one_survivor);
+        ASSERT_EQ(one_kept == 1, kept_set.count(static_cast<uint32_t>(t)) == 1) << "triangle " << t;
+        const bool culled = ref == TriangleSetup::kCulledNear || ref == TriangleSetup::kCulledBackface ||
+                            ref == TriangleSetup::kCulledOutsideBox || ref == TriangleSetup::kCulledBetweenPixels;
+        culls += culled;
+        if (one_kept == 1) {
+          undecided_culls += culled;
+          continue;
+        }
+        ASSERT_TRUE(culled) << hwy::TargetName(target) << " triangle " << t << " decided but setup gives "
+                            << static_cast<int>(ref);
+        const Counts c = Of(one);
+        const Counts want{ref == TriangleSetup::kCulledNear, ref == TriangleSetup::kCulledBackface,
+                          ref == TriangleSetup::kCulledOutsideBox, ref == TriangleSetup::kCulledBetweenPixels};
+        ASSERT_EQ(c.near, want.near) << hwy::TargetName(target) << " triangle " << t;
+        ASSERT_EQ(c.backface, want.backface) << hwy::TargetName(target) << " triangle " << t;
+        ASSERT_EQ(c.outside, want.outside) << hwy::TargetName(target) << " triangle " << t;
+        ASSERT_EQ(c.between, want.between) << hwy::TargetName(target) << " triangle " << t;
+        expected.near += want.near, expected.backface += want.backface, expected.outside += want.outside,
+            expected.between += want.between;
+      }
+      EXPECT_EQ(Of(all).near, expected.near);
+      EXPECT_EQ(Of(all).backface, expected.backface);
+      EXPECT_EQ(Of(all).outside, expected.outside);
+      EXPECT_EQ(Of(all).between, expected.between);
+      // The pass earns its keep: only slivers whose float area sign is uncertain are left over.
+      EXPECT_LT(undecided_culls, culls / 50 + 1) << hwy::TargetName(target);
+    }
+  }
+  hwy::SetSupportedTargetsForTest(0);
+}
+
+TEST(BatchedSetup, RasterizesBitIdenticallyOnEveryTarget) {
+  const std::vector<int64_t> targets = hwy::SupportedAndGeneratedTargets();
+  for (int64_t target : targets) {
+    hwy::SetSupportedTargetsForTest(target);
+    std::mt19937_64 gen(11);
+    for (int trial = 0; trial < 8; ++trial) {
+      const RasterParams params = Params(trial % 2 == 0);
+      const ScreenScene s = RandomScreenScene(gen, 301, params.box);
+      for (RowKernel rows : {RowKernel::kScalar, RowKernel::kSimd}) {
+        std::vector<float> z_ref(params.box.area() + kSimdPadFloats, INFINITY), z_batch = z_ref;
+        RasterStats st_ref, st_batch;
+        RasterizeDepthFixedPoint(s.vertices, s.triangles, params, z_ref.data(), &st_ref, rows);
+        SnappedVertices snapped;
+        SnapVertices(s.vertices, params, &snapped);
+        RasterizeDepthFixedPoint(s.vertices, s.triangles, params, z_batch.data(), &st_batch, rows, &snapped);
+        ASSERT_EQ(0, std::memcmp(z_ref.data(), z_batch.data(), z_ref.size() * sizeof(float)))
+            << hwy::TargetName(target) << " trial " << trial;
+        EXPECT_EQ(st_batch.triangles, st_ref.triangles);
+        EXPECT_EQ(st_batch.culled_near, st_ref.culled_near);
+        EXPECT_EQ(st_batch.culled_degenerate, st_ref.culled_degenerate);
+        EXPECT_EQ(st_batch.culled_backface, st_ref.culled_backface);
+        EXPECT_EQ(st_batch.culled_outside_box, st_ref.culled_outside_box);
+        EXPECT_EQ(st_batch.culled_between_pixels, st_ref.culled_between_pixels);
+        EXPECT_EQ(st_batch.rasterized, st_ref.rasterized);
+        EXPECT_EQ(st_batch.fragments, st_ref.fragments);
+        EXPECT_GT(st_ref.rasterized, 0);
+      }
+    }
+  }
+  hwy::SetSupportedTargetsForTest(0);
+}
+
+}  // namespace
+}  // namespace mcpose::render
