@@ -10,6 +10,8 @@
 #pragma once
 
 #include <array>
+#include <climits>
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -76,19 +78,30 @@ enum class RowKernel { kScalar, kSimd };
 
 // Batched triangle setup (render/setup_simd.cc, Highway, runtime-dispatched once per call):
 // the vertices of one sample snapped once, then the triangles classified a vector at a time.
-inline constexpr int32_t kVertexNear = 1;         // z < params.z_near_m
-inline constexpr int32_t kVertexOutsideBand = 2;  // outside the guard band, or not finite
+// A snapped vertex is (X << 16) | (Y & 0xffff), X and Y in 1/16 pixel relative to the box
+// corner as SetupFixedTriangle snaps them, for vertices at or beyond the near plane within
+// kSnapBandPx of the corner; kSnappedDeferred for the others (their triangles are left to
+// SetupFixedTriangle).
+inline constexpr float kSnapBandPx = 2047.f;  // |X|, |Y| < 2^15 sub-pixels
+inline constexpr int32_t kSnappedDeferred = INT32_MIN;
 struct SnappedVertices {
-  std::vector<int32_t> x, y;   // box-relative, 1/16 pixel, as SetupFixedTriangle snaps them
-  std::vector<int32_t> flags;  // kVertexNear | kVertexOutsideBand
+  std::vector<int32_t> packed;
   std::vector<uint32_t> survivors;  // ClassifyTriangles' output buffer
 };
 void SnapVertices(std::span<const ScreenVertex> vertices, const RasterParams& params, SnappedVertices* out);
-// Decides every triangle whose fate the snapped integers make certain: near, back-facing,
-// outside the box, between pixel centres. Each gets the reason SetupFixedTriangle gives it
-// (tested), counted in *stats (not `triangles`). Writes the indices into `triangles` of the
-// rest (front-facing ones that reach a pixel centre, degenerate or nearly degenerate ones,
-// float-path ones) to (*survivors)[0, returned count), in increasing order.
+// One vertex, scalar: what SnapVertices stores for it (the reference and the vector tail).
+inline int32_t SnapVertexScalar(const ScreenVertex& v, float ox, float oy, float z_near) {
+  const float du = v.u - ox, dv = v.v - oy;
+  if (!(std::fabs(du) < kSnapBandPx && std::fabs(dv) < kSnapBandPx && v.z >= z_near)) return kSnappedDeferred;
+  const auto X = static_cast<uint32_t>(std::lrint(du * kSubpixelOne));
+  const auto Y = static_cast<uint32_t>(std::lrint(dv * kSubpixelOne));
+  return static_cast<int32_t>((X << 16) | (Y & 0xffffu));
+}
+// Decides every triangle whose fate the snapped integers make certain: back-facing, outside
+// the box, between pixel centres. Each gets the reason SetupFixedTriangle gives it (tested),
+// counted in *stats (not `triangles`). Writes the indices into `triangles` of the rest
+// (front-facing ones that reach a pixel centre; degenerate, nearly degenerate, near-plane and
+// deferred ones) to (*survivors)[0, returned count), in increasing order.
 size_t ClassifyTriangles(const SnappedVertices& snapped, std::span<const std::array<uint32_t, 3>> triangles,
                          const RasterParams& params, RasterStats* stats, std::vector<uint32_t>* survivors);
 
