@@ -154,10 +154,9 @@ void BM_TriangleSetup(benchmark::State& state) {
         // Batched: snap once, classify a vector at a time, set up the survivors one by one.
         render::SnapVertices(std::span(v, nv), p, &sv);
         const size_t kept = render::ClassifyTriangles(sv, mesh.triangles, p, &stats, &sv.survivors);
-        for (size_t j = 0; j < kept; ++j) {
-          const auto& t = mesh.triangles[sv.survivors[j]];
-          k += render::SetupFixedTriangle(v[t[0]], v[t[1]], v[t[2]], p, &ft) == render::TriangleSetup::kReady;
-        }
+        for (size_t j = 0; j < kept; ++j)
+          k += render::SetupBatchedTriangle(std::span(v, nv), sv.packed.data(), mesh.triangles[sv.survivors[j]], p,
+                                            &ft) == render::TriangleSetup::kReady;
       }
       ready[static_cast<size_t>(worker)] += k;
       benchmark::DoNotOptimize(ft);

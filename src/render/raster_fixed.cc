@@ -56,6 +56,13 @@ TriangleSetup SetupFixedTriangle(const ScreenVertex& v0, const ScreenVertex& v1,
     X[k] = static_cast<int32_t>(std::lrint((v[k]->u - ox) * kOne));
     Y[k] = static_cast<int32_t>(std::lrint((v[k]->v - oy) * kOne));
   }
+  const float z[3] = {v0.z, v1.z, v2.z};
+  return SetupSnappedTriangle(X, Y, z, params, out);
+}
+
+TriangleSetup SetupSnappedTriangle(const int32_t X[3], const int32_t Y[3], const float z[3], const RasterParams& params,
+                                   FixedTriangle* out) {
+  const PixelRect& box = params.box;
 
   // Orientation on the snapped triangle: front faces have negative area (y down).
   int64_t area = int64_t{X[1] - X[0]} * (Y[2] - Y[0]) - int64_t{Y[1] - Y[0]} * (X[2] - X[0]);
@@ -102,7 +109,7 @@ TriangleSetup SetupFixedTriangle(const ScreenVertex& v0, const ScreenVertex& v1,
 
   // 1/z as a plane over pixel coordinates: inv_z = A x + B y + C (box-relative pixels).
   const double inv_area = 1.0 / static_cast<double>(-area);
-  const double iz[3] = {1.0 / v[ia]->z, 1.0 / v[ib]->z, 1.0 / v[ic]->z};
+  const double iz[3] = {1.0 / z[ia], 1.0 / z[ib], 1.0 / z[ic]};
   // Barycentric weight of vertex k = E_k(p) / (-area); E_k is linear in p with gradient
   // (-dy_k, dx_k) per fixed-point unit.
   double A = 0, B = 0, C = 0;
@@ -119,15 +126,31 @@ TriangleSetup SetupFixedTriangle(const ScreenVertex& v0, const ScreenVertex& v1,
   return TriangleSetup::kReady;
 }
 
+TriangleSetup SetupBatchedTriangle(std::span<const ScreenVertex> vertices, const int32_t* packed,
+                                   const std::array<uint32_t, 3>& tri, const RasterParams& params, FixedTriangle* out) {
+  int32_t X[3], Y[3];
+  float z[3];
+  for (int k = 0; k < 3; ++k) {
+    const int32_t p = packed[tri[k]];
+    if (p == kSnappedDeferred) return SetupFixedTriangle(vertices[tri[0]], vertices[tri[1]], vertices[tri[2]], params, out);
+    X[k] = p >> 16, Y[k] = static_cast<int16_t>(p & 0xffff), z[k] = vertices[tri[k]].z;
+  }
+  return SetupSnappedTriangle(X, Y, z, params, out);
+}
+
 namespace {
 
 // Setup and rows of one triangle (triangles[t]), counted in *s.
+// With `packed` (SnapVertices), the batched setup's per-triangle stage.
 inline void RasterizeOne(std::span<const ScreenVertex> vertices, std::span<const std::array<uint32_t, 3>> triangles,
                          size_t t, const RasterParams& params, float* zbuf, int stride, RowKernel rows,
-                         RasterStats* s) {
+                         RasterStats* s, const int32_t* packed = nullptr) {
   const auto& tri = triangles[t];
   FixedTriangle ft;
-  switch (SetupFixedTriangle(vertices[tri[0]], vertices[tri[1]], vertices[tri[2]], params, &ft)) {
+  const TriangleSetup setup =
+      packed ? SetupBatchedTriangle(vertices, packed, tri, params, &ft)
+             : SetupFixedTriangle(vertices[tri[0]], vertices[tri[1]], vertices[tri[2]], params, &ft);
+  switch (setup) {
     case TriangleSetup::kCulledNear: ++s->culled_near; return;
     case TriangleSetup::kCulledDegenerate: ++s->culled_degenerate; return;
     case TriangleSetup::kCulledBackface: ++s->culled_backface; return;
@@ -163,7 +186,7 @@ void RasterizeDepthFixedPoint(std::span<const ScreenVertex> vertices,
   if (snapped) {
     const size_t kept = ClassifyTriangles(*snapped, triangles, params, &s, &snapped->survivors);
     for (size_t j = 0; j < kept; ++j)
-      RasterizeOne(vertices, triangles, snapped->survivors[j], params, zbuf, stride, rows, &s);
+      RasterizeOne(vertices, triangles, snapped->survivors[j], params, zbuf, stride, rows, &s, snapped->packed.data());
   } else {
     for (size_t t = 0; t < triangles.size(); ++t) RasterizeOne(vertices, triangles, t, params, zbuf, stride, rows, &s);
   }

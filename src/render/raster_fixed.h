@@ -61,6 +61,11 @@ enum class TriangleSetup {
 // this order (a triangle gets the first that applies).
 TriangleSetup SetupFixedTriangle(const ScreenVertex& v0, const ScreenVertex& v1, const ScreenVertex& v2,
                                  const RasterParams& params, FixedTriangle* out);
+// The setup after the near-plane and guard-band tests and the snapping: X, Y box-relative in
+// 1/16 pixel, z the vertices' depths. SetupFixedTriangle ends in it; the batched setup calls
+// it with the vertices SnapVertices snapped (the same integers), so both give the same result.
+TriangleSetup SetupSnappedTriangle(const int32_t X[3], const int32_t Y[3], const float z[3], const RasterParams& params,
+                                   FixedTriangle* out);
 
 // Walks the triangle's pixels, keeping the nearest depth 1 / (A x + (B y + C)) of covered
 // pixels in zbuf (row stride `stride`). Returns the covered pixel count.
@@ -104,6 +109,11 @@ inline int32_t SnapVertexScalar(const ScreenVertex& v, float ox, float oy, float
 // deferred ones) to (*survivors)[0, returned count), in increasing order.
 size_t ClassifyTriangles(const SnappedVertices& snapped, std::span<const std::array<uint32_t, 3>> triangles,
                          const RasterParams& params, RasterStats* stats, std::vector<uint32_t>* survivors);
+
+// The per-triangle stage of the batched setup, for ClassifyTriangles' survivors: unpacks the
+// snapped vertices into SetupSnappedTriangle, or (a deferred vertex) runs SetupFixedTriangle.
+TriangleSetup SetupBatchedTriangle(std::span<const ScreenVertex> vertices, const int32_t* packed,
+                                   const std::array<uint32_t, 3>& tri, const RasterParams& params, FixedTriangle* out);
 
 // Renders the triangles. With `snapped` (SnapVertices of these vertices and params), setup is
 // batched: ClassifyTriangles first, SetupFixedTriangle for its survivors only; the z-buffer

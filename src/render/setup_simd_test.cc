@@ -113,6 +113,17 @@ TEST(BatchedSetup, SnapsAndClassifiesAsSetupFixedTriangleOnEveryTarget) {
         FixedTriangle ft;
         const TriangleSetup ref =
             SetupFixedTriangle(s.vertices[tri[0]], s.vertices[tri[1]], s.vertices[tri[2]], params, &ft);
+        // The survivors' stage gives the same setup, field by field.
+        FixedTriangle fb;
+        ASSERT_EQ(SetupBatchedTriangle(s.vertices, snapped.packed.data(), tri, params, &fb), ref) << "triangle " << t;
+        if (ref == TriangleSetup::kReady) {
+          ASSERT_TRUE(fb.x_lo == ft.x_lo && fb.x_hi == ft.x_hi && fb.y_lo == ft.y_lo && fb.y_hi == ft.y_hi &&
+                      fb.simd_fits == ft.simd_fits)
+              << "triangle " << t;
+          for (int k = 0; k < 3; ++k)
+            ASSERT_TRUE(fb.w_row[k] == ft.w_row[k] && fb.step_x[k] == ft.step_x[k] && fb.step_y[k] == ft.step_y[k]);
+          ASSERT_TRUE(fb.A == ft.A && fb.B == ft.B && fb.C == ft.C) << "triangle " << t;
+        }
         RasterStats one;
         std::vector<uint32_t> one_survivor;
         const size_t one_kept = ClassifyTriangles(snapped, std::span(s.triangles).subspan(t, 1), params, &one,
