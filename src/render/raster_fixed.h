@@ -116,7 +116,7 @@ TriangleSetup SetupBatchedTriangle(std::span<const ScreenVertex> vertices, const
                                    const std::array<uint32_t, 3>& tri, const RasterParams& params, FixedTriangle* out);
 
 // Renders the triangles. With `snapped` (SnapVertices of these vertices and params), setup is
-// batched: ClassifyTriangles first, SetupFixedTriangle for its survivors only; the z-buffer
+// batched: ClassifyTriangles first, SetupBatchedTriangle for its survivors only; the z-buffer
 // and every statistic are identical to the per-triangle setup (triangle order does not change
 // a z-buffer of minima or the counts).
 void RasterizeDepthFixedPoint(std::span<const ScreenVertex> vertices,

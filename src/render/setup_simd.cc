@@ -3,7 +3,7 @@
 // Highway, compiled for every target Highway knows here and dispatched at run time (once per
 // call, not per triangle). SetupFixedTriangle (raster_fixed.cc) is its reference: every
 // triangle this pass decides gets the reason SetupFixedTriangle gives it, and every other
-// triangle is left to SetupFixedTriangle.
+// triangle is left to the per-triangle stage (SetupBatchedTriangle, raster_fixed.cc).
 #include <cmath>
 #include <cstdint>
 
