@@ -7,6 +7,7 @@
 //                      classification first), grid {object, threads, samples, batched}
 //   BM_Resample        sort + threshold table + N draws (the paper's resampler), grid {samples}
 //   build/mcpose_benchmarks --benchmark_filter=ScoreIteration
+#include <algorithm>
 #include <cstdlib>
 #include <map>
 #include <memory>
@@ -151,12 +152,18 @@ void BM_TriangleSetup(benchmark::State& state) {
             k += render::SetupFixedTriangle(v[t[0]], v[t[1]], v[t[2]], p, &ft) == render::TriangleSetup::kReady;
           continue;
         }
-        // Batched: snap once, classify a vector at a time, set up the survivors one by one.
+        // Batched, as the engine: snap once, classify a vector at a time, set up the survivors
+        // a vector at a time, the rest (culls found late, deferred vertices) one by one.
         render::SnapVertices(std::span(v, nv), p, &sv);
         const size_t kept = render::ClassifyTriangles(sv, mesh.triangles, p, &stats, &sv.survivors);
-        for (size_t j = 0; j < kept; ++j)
-          k += render::SetupBatchedTriangle(std::span(v, nv), sv.packed.data(), mesh.triangles[sv.survivors[j]], p,
+        sv.setups.resize(std::max(sv.setups.size(), kept)), sv.ready.resize(std::max(sv.ready.size(), kept));
+        render::SetupSurvivors(sv, std::span(v, nv), mesh.triangles, p, std::span(sv.survivors.data(), kept),
+                               sv.setups.data(), sv.ready.data());
+        for (size_t j = 0; j < kept; ++j) {
+          k += sv.ready[j] ||
+               render::SetupBatchedTriangle(std::span(v, nv), sv.packed.data(), mesh.triangles[sv.survivors[j]], p,
                                             &ft) == render::TriangleSetup::kReady;
+        }
       }
       ready[static_cast<size_t>(worker)] += k;
       benchmark::DoNotOptimize(ft);

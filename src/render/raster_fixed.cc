@@ -140,6 +140,21 @@ TriangleSetup SetupBatchedTriangle(std::span<const ScreenVertex> vertices, const
 
 namespace {
 
+// The rows of one set-up triangle, counted in *s.
+inline void FillOne(const FixedTriangle& ft, float* zbuf, int stride, RowKernel rows, RasterStats* s) {
+  // Walk the bounding box: a vector of pixels at a time where the edge functions fit in 32
+  // bits and rows are wide enough to fill one; tiny triangles (full meshes far away) are
+  // cheaper one pixel at a time. Both kernels give bit-identical results.
+  const bool simd = rows == RowKernel::kSimd && ft.simd_fits && ft.x_hi - ft.x_lo + 1 >= kMinSimdRowPx;
+  const int64_t covered = simd ? FillTriangleSimd(ft, zbuf, stride) : FillTriangleScalar(ft, zbuf, stride);
+  if (covered == 0) {
+    ++s->culled_between_pixels;
+  } else {
+    ++s->rasterized;
+    s->fragments += covered;
+  }
+}
+
 // Setup and rows of one triangle (triangles[t]), counted in *s.
 // With `packed` (SnapVertices), the batched setup's per-triangle stage.
 inline void RasterizeOne(std::span<const ScreenVertex> vertices, std::span<const std::array<uint32_t, 3>> triangles,
@@ -162,17 +177,7 @@ inline void RasterizeOne(std::span<const ScreenVertex> vertices, std::span<const
       return;
     case TriangleSetup::kReady: break;
   }
-  // Walk the bounding box: a vector of pixels at a time where the edge functions fit in 32
-  // bits and rows are wide enough to fill one; tiny triangles (full meshes far away) are
-  // cheaper one pixel at a time. Both kernels give bit-identical results.
-  const bool simd = rows == RowKernel::kSimd && ft.simd_fits && ft.x_hi - ft.x_lo + 1 >= kMinSimdRowPx;
-  const int64_t covered = simd ? FillTriangleSimd(ft, zbuf, stride) : FillTriangleScalar(ft, zbuf, stride);
-  if (covered == 0) {
-    ++s->culled_between_pixels;
-  } else {
-    ++s->rasterized;
-    s->fragments += covered;
-  }
+  FillOne(ft, zbuf, stride, rows, s);
 }
 
 }  // namespace
@@ -185,8 +190,18 @@ void RasterizeDepthFixedPoint(std::span<const ScreenVertex> vertices,
   s.triangles = static_cast<int64_t>(triangles.size());
   if (snapped) {
     const size_t kept = ClassifyTriangles(*snapped, triangles, params, &s, &snapped->survivors);
-    for (size_t j = 0; j < kept; ++j)
-      RasterizeOne(vertices, triangles, snapped->survivors[j], params, zbuf, stride, rows, &s, snapped->packed.data());
+    snapped->setups.resize(std::max(snapped->setups.size(), kept));
+    snapped->ready.resize(std::max(snapped->ready.size(), kept));
+    SetupSurvivors(*snapped, vertices, triangles, params, std::span(snapped->survivors.data(), kept),
+                   snapped->setups.data(), snapped->ready.data());
+    for (size_t j = 0; j < kept; ++j) {
+      if (snapped->ready[j]) {
+        FillOne(snapped->setups[j], zbuf, stride, rows, &s);
+      } else {  // culled, float path or a deferred vertex: the per-triangle stage decides
+        RasterizeOne(vertices, triangles, snapped->survivors[j], params, zbuf, stride, rows, &s,
+                     snapped->packed.data());
+      }
+    }
   } else {
     for (size_t t = 0; t < triangles.size(); ++t) RasterizeOne(vertices, triangles, t, params, zbuf, stride, rows, &s);
   }

@@ -92,6 +92,8 @@ inline constexpr int32_t kSnappedDeferred = INT32_MIN;
 struct SnappedVertices {
   std::vector<int32_t> packed;
   std::vector<uint32_t> survivors;  // ClassifyTriangles' output buffer
+  std::vector<FixedTriangle> setups;  // SetupSurvivors' output buffers
+  std::vector<uint8_t> ready;
 };
 void SnapVertices(std::span<const ScreenVertex> vertices, const RasterParams& params, SnappedVertices* out);
 // One vertex, scalar: what SnapVertices stores for it (the reference and the vector tail).
@@ -114,6 +116,14 @@ size_t ClassifyTriangles(const SnappedVertices& snapped, std::span<const std::ar
 // snapped vertices into SetupSnappedTriangle, or (a deferred vertex) runs SetupFixedTriangle.
 TriangleSetup SetupBatchedTriangle(std::span<const ScreenVertex> vertices, const int32_t* packed,
                                    const std::array<uint32_t, 3>& tri, const RasterParams& params, FixedTriangle* out);
+
+// SetupBatchedTriangle for many survivors at once, a SIMD vector of doubles at a time
+// (setup_simd.cc): for each j, ready[j] = 1 and out[j] set up bit-identically to
+// SetupSnappedTriangle when that would return kReady; ready[j] = 0 otherwise (a deferred
+// vertex, or any cull or the float path: the caller runs SetupBatchedTriangle for it).
+void SetupSurvivors(const SnappedVertices& snapped, std::span<const ScreenVertex> vertices,
+                    std::span<const std::array<uint32_t, 3>> triangles, const RasterParams& params,
+                    std::span<const uint32_t> survivors, FixedTriangle* out, uint8_t* ready);
 
 // Renders the triangles. With `snapped` (SnapVertices of these vertices and params), setup is
 // batched: ClassifyTriangles first, SetupBatchedTriangle for its survivors only; the z-buffer

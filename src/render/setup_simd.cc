@@ -4,6 +4,7 @@
 // call, not per triangle). SetupFixedTriangle (raster_fixed.cc) is its reference: every
 // triangle this pass decides gets the reason SetupFixedTriangle gives it, and every other
 // triangle is left to the per-triangle stage (SetupBatchedTriangle, raster_fixed.cc).
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -127,6 +128,104 @@ size_t ClassifyTrianglesImpl(const int32_t* packed, const uint32_t* tri, size_t 
   return kept;
 }
 
+// SetupSnappedTriangle for many triangles, a vector of doubles at a time: the same integer
+// tests and the same double operations in the same order, lane by lane, so every triangle it
+// sets up is bit-identical to the scalar setup. Lanes that are not ready (a deferred vertex,
+// degenerate, back-facing, outside the box, too wide, between pixels) get ready[j] = 0.
+void SetupSurvivorsImpl(const int32_t* packed, const ScreenVertex* vertices, const uint32_t* tri,
+                        const uint32_t* survivors, size_t count, int32_t box_w, int32_t box_h, bool cull_backfaces,
+                        FixedTriangle* out, uint8_t* ready) {
+  const hn::ScalableTag<double> dd;
+  const hn::RebindToSigned<decltype(dd)> dl;
+  const hn::Rebind<float, decltype(dd)> df;
+  const size_t lanes = hn::Lanes(dd);
+  constexpr size_t kMax = HWY_MAX_BYTES / sizeof(double);
+  HWY_ALIGN double x[3][kMax], y[3][kMax], z[3][kMax], bad[kMax];
+  HWY_ALIGN int64_t o_w[3][kMax], o_sx[3][kMax], o_sy[3][kMax], o_lo[2][kMax], o_hi[2][kMax], o_ok[kMax], o_fit[kMax];
+  HWY_ALIGN float o_abc[3][kMax];
+  const auto zero = hn::Zero(dd), one = hn::Set(dd, 1.0), sub = hn::Set(dd, static_cast<double>(kSubpixelOne));
+  const auto x_last = hn::Set(dd, box_w - 1), y_last = hn::Set(dd, box_h - 1);
+  const auto x_max = hn::Set(dd, (box_w - 1) * kSubpixelOne), y_max = hn::Set(dd, (box_h - 1) * kSubpixelOne);
+  const auto span_max = hn::Set(dd, kMaxSpanPx * kSubpixelOne), simd_span = hn::Set(dd, kMaxSimdSpanPx * kSubpixelOne);
+  const auto round_up = hn::Set(dd, kSubpixelOne - 1), inv_sub = hn::Set(dd, 1.0 / kSubpixelOne);
+  for (size_t first = 0; first < count; first += lanes) {
+    for (size_t j = 0; j < lanes; ++j) {  // gather; lanes past the end repeat the last survivor
+      const uint32_t* t = tri + 3 * static_cast<size_t>(survivors[std::min(first + j, count - 1)]);
+      bad[j] = 0;
+      for (int k = 0; k < 3; ++k) {
+        const int32_t p = packed[t[k]];
+        bad[j] = p == kSnappedDeferred ? 1.0 : bad[j];
+        x[k][j] = static_cast<double>(p >> 16), y[k][j] = static_cast<double>(static_cast<int16_t>(p & 0xffff));
+        z[k][j] = static_cast<double>(vertices[t[k]].z);
+      }
+    }
+    const auto X0 = hn::Load(dd, x[0]), Y0 = hn::Load(dd, y[0]), Z0 = hn::Load(dd, z[0]);
+    auto X1 = hn::Load(dd, x[1]), Y1 = hn::Load(dd, y[1]), Z1 = hn::Load(dd, z[1]);
+    auto X2 = hn::Load(dd, x[2]), Y2 = hn::Load(dd, y[2]), Z2 = hn::Load(dd, z[2]);
+    // Orientation (exact: products below 2^34); back faces swap b and c when not culled.
+    auto area = hn::Sub(hn::Mul(hn::Sub(X1, X0), hn::Sub(Y2, Y0)), hn::Mul(hn::Sub(Y1, Y0), hn::Sub(X2, X0)));
+    const auto pos = hn::Gt(area, zero);
+    auto ok = hn::And(hn::Ne(area, zero), hn::Eq(hn::Load(dd, bad), zero));
+    if (cull_backfaces) {
+      ok = hn::AndNot(pos, ok);
+    } else {
+      const auto sx = hn::IfThenElse(pos, X2, X1), sy = hn::IfThenElse(pos, Y2, Y1), sz = hn::IfThenElse(pos, Z2, Z1);
+      X2 = hn::IfThenElse(pos, X1, X2), Y2 = hn::IfThenElse(pos, Y1, Y2), Z2 = hn::IfThenElse(pos, Z1, Z2);
+      X1 = sx, Y1 = sy, Z1 = sz;
+      area = hn::IfThenElse(pos, hn::Neg(area), area);
+    }
+    // Bounding box, box and span tests, the pixel range (floor of exact multiples of 1/16).
+    const auto min_x = hn::Min(hn::Min(X0, X1), X2), max_x = hn::Max(hn::Max(X0, X1), X2);
+    const auto min_y = hn::Min(hn::Min(Y0, Y1), Y2), max_y = hn::Max(hn::Max(Y0, Y1), Y2);
+    ok = hn::AndNot(hn::Or(hn::Or(hn::Lt(max_x, zero), hn::Gt(min_x, x_max)),
+                           hn::Or(hn::Lt(max_y, zero), hn::Gt(min_y, y_max))), ok);
+    ok = hn::AndNot(hn::Or(hn::Gt(hn::Sub(max_x, min_x), span_max), hn::Gt(hn::Sub(max_y, min_y), span_max)), ok);
+    const auto x_lo = hn::Max(zero, hn::Floor(hn::Mul(hn::Add(min_x, round_up), inv_sub)));
+    const auto x_hi = hn::Min(x_last, hn::Floor(hn::Mul(max_x, inv_sub)));
+    const auto y_lo = hn::Max(zero, hn::Floor(hn::Mul(hn::Add(min_y, round_up), inv_sub)));
+    const auto y_hi = hn::Min(y_last, hn::Floor(hn::Mul(max_y, inv_sub)));
+    ok = hn::AndNot(hn::Or(hn::Gt(x_lo, x_hi), hn::Gt(y_lo, y_hi)), ok);
+    const auto fits = hn::And(hn::Le(hn::Sub(max_x, min_x), simd_span), hn::Le(hn::Sub(max_y, min_y), simd_span));
+
+    // Edge functions of c->b, a->c, b->a (opposite a, b, c) and the 1/z plane, as the scalar.
+    const decltype(X0) P0x[3] = {X2, X0, X1}, P0y[3] = {Y2, Y0, Y1}, P1x[3] = {X1, X2, X0}, P1y[3] = {Y1, Y2, Y0};
+    const decltype(X0) iz[3] = {hn::Div(one, Z0), hn::Div(one, Z1), hn::Div(one, Z2)};
+    const auto px0 = hn::Mul(x_lo, sub), py0 = hn::Mul(y_lo, sub);
+    const auto inv_area = hn::Div(one, hn::Neg(area));
+    auto A = zero, B = zero, C = zero;
+    for (int k = 0; k < 3; ++k) {
+      const auto dx = hn::Sub(P1x[k], P0x[k]), dy = hn::Sub(P1y[k], P0y[k]);
+      const auto top_left = hn::Or(hn::And(hn::Eq(dy, zero), hn::Lt(dx, zero)), hn::Gt(dy, zero));
+      const auto w = hn::Sub(hn::Sub(hn::Mul(dx, hn::Sub(py0, P0y[k])), hn::Mul(dy, hn::Sub(px0, P0x[k]))),
+                             hn::IfThenZeroElse(top_left, one));
+      hn::Store(hn::ConvertTo(dl, w), dl, o_w[k]);
+      hn::Store(hn::ConvertTo(dl, hn::Mul(hn::Neg(dy), sub)), dl, o_sx[k]);
+      hn::Store(hn::ConvertTo(dl, hn::Mul(dx, sub)), dl, o_sy[k]);
+      const auto wk = hn::Mul(iz[k], inv_area);
+      A = hn::Add(A, hn::Mul(hn::Mul(hn::Neg(dy), sub), wk));
+      B = hn::Add(B, hn::Mul(hn::Mul(dx, sub), wk));
+      C = hn::Add(C, hn::Mul(hn::Sub(hn::Mul(dx, hn::Neg(P0y[k])), hn::Mul(dy, hn::Neg(P0x[k]))), wk));
+    }
+    hn::Store(hn::DemoteTo(df, A), df, o_abc[0]);
+    hn::Store(hn::DemoteTo(df, B), df, o_abc[1]);
+    hn::Store(hn::DemoteTo(df, C), df, o_abc[2]);
+    hn::Store(hn::ConvertTo(dl, x_lo), dl, o_lo[0]), hn::Store(hn::ConvertTo(dl, y_lo), dl, o_lo[1]);
+    hn::Store(hn::ConvertTo(dl, x_hi), dl, o_hi[0]), hn::Store(hn::ConvertTo(dl, y_hi), dl, o_hi[1]);
+    hn::Store(hn::ConvertTo(dl, hn::IfThenElseZero(ok, one)), dl, o_ok);
+    hn::Store(hn::ConvertTo(dl, hn::IfThenElseZero(fits, one)), dl, o_fit);
+    for (size_t j = 0; j < lanes && first + j < count; ++j) {
+      ready[first + j] = o_ok[j] != 0;
+      if (!o_ok[j]) continue;
+      FixedTriangle& ft = out[first + j];
+      ft.x_lo = static_cast<int32_t>(o_lo[0][j]), ft.y_lo = static_cast<int32_t>(o_lo[1][j]);
+      ft.x_hi = static_cast<int32_t>(o_hi[0][j]), ft.y_hi = static_cast<int32_t>(o_hi[1][j]);
+      for (int k = 0; k < 3; ++k) ft.w_row[k] = o_w[k][j], ft.step_x[k] = o_sx[k][j], ft.step_y[k] = o_sy[k][j];
+      ft.A = o_abc[0][j], ft.B = o_abc[1][j], ft.C = o_abc[2][j];
+      ft.simd_fits = o_fit[j] != 0;
+    }
+  }
+}
+
 }  // namespace HWY_NAMESPACE
 }  // namespace mcpose::render
 HWY_AFTER_NAMESPACE();
@@ -136,6 +235,16 @@ namespace mcpose::render {
 
 HWY_EXPORT(SnapVerticesImpl);
 HWY_EXPORT(ClassifyTrianglesImpl);
+HWY_EXPORT(SetupSurvivorsImpl);
+
+void SetupSurvivors(const SnappedVertices& snapped, std::span<const ScreenVertex> vertices,
+                    std::span<const std::array<uint32_t, 3>> triangles, const RasterParams& params,
+                    std::span<const uint32_t> survivors, FixedTriangle* out, uint8_t* ready) {
+  if (survivors.empty()) return;
+  HWY_DYNAMIC_DISPATCH(SetupSurvivorsImpl)(snapped.packed.data(), vertices.data(), triangles.data()->data(),
+                                          survivors.data(), survivors.size(), params.box.width(),
+                                          params.box.height(), params.cull_backfaces, out, ready);
+}
 
 void SnapVertices(std::span<const ScreenVertex> vertices, const RasterParams& params, SnappedVertices* out) {
   const size_t n = vertices.size();

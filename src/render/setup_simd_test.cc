@@ -72,6 +72,16 @@ Counts Of(const RasterStats& s) {
   return {s.culled_near, s.culled_backface, s.culled_outside_box, s.culled_between_pixels};
 }
 
+// Every field of two set-up triangles (the depth plane bit for bit).
+bool SameSetup(const FixedTriangle& a, const FixedTriangle& b) {
+  bool same = a.x_lo == b.x_lo && a.x_hi == b.x_hi && a.y_lo == b.y_lo && a.y_hi == b.y_hi &&
+              a.simd_fits == b.simd_fits && std::memcmp(&a.A, &b.A, sizeof(float)) == 0 &&
+              std::memcmp(&a.B, &b.B, sizeof(float)) == 0 && std::memcmp(&a.C, &b.C, sizeof(float)) == 0;
+  for (int k = 0; k < 3; ++k)
+    same = same && a.w_row[k] == b.w_row[k] && a.step_x[k] == b.step_x[k] && a.step_y[k] == b.step_y[k];
+  return same;
+}
+
 TEST(BatchedSetup, SnapsAndClassifiesAsSetupFixedTriangleOnEveryTarget) {
   const std::vector<int64_t> targets = hwy::SupportedAndGeneratedTargets();
   ASSERT_FALSE(targets.empty());
@@ -105,6 +115,28 @@ TEST(BatchedSetup, SnapsAndClassifiesAsSetupFixedTriangleOnEveryTarget) {
       ASSERT_EQ(kept_set.size(), kept);
       for (size_t j = 1; j < kept; ++j) ASSERT_LT(survivors[j - 1], survivors[j]);
 
+      // The survivors set up a vector at a time: ready exactly when SetupFixedTriangle is,
+      // field by field the same.
+      std::vector<FixedTriangle> setups(kept);
+      std::vector<uint8_t> ready(kept, 7);
+      SetupSurvivors(snapped, s.vertices, s.triangles, params, std::span(survivors.data(), kept), setups.data(),
+                     ready.data());
+      int vector_ready = 0;
+      for (size_t j = 0; j < kept; ++j) {
+        const auto& tri = s.triangles[survivors[j]];
+        FixedTriangle ft;
+        const TriangleSetup ref =
+            SetupFixedTriangle(s.vertices[tri[0]], s.vertices[tri[1]], s.vertices[tri[2]], params, &ft);
+        const bool deferred = snapped.packed[tri[0]] == kSnappedDeferred ||
+                              snapped.packed[tri[1]] == kSnappedDeferred || snapped.packed[tri[2]] == kSnappedDeferred;
+        ASSERT_EQ(ready[j], deferred ? 0 : ref == TriangleSetup::kReady)
+            << hwy::TargetName(target) << " survivor " << j << " setup " << static_cast<int>(ref);
+        if (!ready[j]) continue;
+        ++vector_ready;
+        ASSERT_TRUE(SameSetup(setups[j], ft)) << hwy::TargetName(target) << " survivor " << j;
+      }
+      EXPECT_GT(vector_ready, 0);
+
       // One triangle per call: which reason it got, against SetupFixedTriangle.
       Counts expected;
       int undecided_culls = 0, culls = 0;
@@ -117,12 +149,7 @@ TEST(BatchedSetup, SnapsAndClassifiesAsSetupFixedTriangleOnEveryTarget) {
         FixedTriangle fb;
         ASSERT_EQ(SetupBatchedTriangle(s.vertices, snapped.packed.data(), tri, params, &fb), ref) << "triangle " << t;
         if (ref == TriangleSetup::kReady) {
-          ASSERT_TRUE(fb.x_lo == ft.x_lo && fb.x_hi == ft.x_hi && fb.y_lo == ft.y_lo && fb.y_hi == ft.y_hi &&
-                      fb.simd_fits == ft.simd_fits)
-              << "triangle " << t;
-          for (int k = 0; k < 3; ++k)
-            ASSERT_TRUE(fb.w_row[k] == ft.w_row[k] && fb.step_x[k] == ft.step_x[k] && fb.step_y[k] == ft.step_y[k]);
-          ASSERT_TRUE(fb.A == ft.A && fb.B == ft.B && fb.C == ft.C) << "triangle " << t;
+          ASSERT_TRUE(SameSetup(fb, ft)) << "triangle " << t;
         }
         RasterStats one;
         std::vector<uint32_t> one_survivor;
