@@ -16,28 +16,37 @@ namespace mcpose::score {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
+// Counts the pixels [x, x + lanes of DF) of one row: drawn, inliers, occluded.
+template <class DF>
+HWY_INLINE void CountVector(DF df, const float* zr, const float* zo, int x, float eps_m, int64_t* drawn,
+                            int64_t* inliers, int64_t* occluded) {
+  const auto r = hn::LoadU(df, zr + x);
+  const auto o = hn::LoadU(df, zo + x);
+  const auto eps = hn::Set(df, eps_m);
+  const auto d = hn::Ne(r, hn::Set(df, INFINITY));
+  const auto dv = hn::And(d, hn::Gt(o, hn::Zero(df)));
+  *drawn += static_cast<int64_t>(hn::CountTrue(df, d));
+  *inliers += static_cast<int64_t>(hn::CountTrue(df, hn::And(dv, hn::Lt(hn::Abs(hn::Sub(r, o)), eps))));
+  *occluded += static_cast<int64_t>(hn::CountTrue(df, hn::And(dv, hn::Le(o, hn::Sub(r, eps)))));
+}
+
 void CountRect(const float* rendered, const float* observed, int stride, int x0, int y0, int x1, int y1,
                float eps_m, int64_t* out) {
   const hn::ScalableTag<float> df;
-  const int lanes = static_cast<int>(hn::Lanes(df));
-  const auto inf = hn::Set(df, INFINITY);
-  const auto zero = hn::Zero(df);
-  const auto eps = hn::Set(df, eps_m);
+  const hn::CappedTag<float, 8> d8;
+  const hn::CappedTag<float, 4> d4;
+  const int lanes = static_cast<int>(hn::Lanes(df)), lanes8 = static_cast<int>(hn::Lanes(d8)),
+            lanes4 = static_cast<int>(hn::Lanes(d4));
   int64_t drawn = 0, inliers = 0, occluded = 0;
   for (int y = y0; y < y1; ++y) {
     const float* zr = rendered + static_cast<size_t>(y) * stride;
     const float* zo = observed + static_cast<size_t>(y) * stride;
     int x = x0;
-    for (; x + lanes <= x1; x += lanes) {
-      const auto r = hn::LoadU(df, zr + x);
-      const auto o = hn::LoadU(df, zo + x);
-      const auto d = hn::Ne(r, inf);
-      const auto dv = hn::And(d, hn::Gt(o, zero));
-      drawn += static_cast<int64_t>(hn::CountTrue(df, d));
-      inliers += static_cast<int64_t>(hn::CountTrue(df, hn::And(dv, hn::Lt(hn::Abs(hn::Sub(r, o)), eps))));
-      occluded += static_cast<int64_t>(hn::CountTrue(df, hn::And(dv, hn::Le(o, hn::Sub(r, eps)))));
-    }
-    for (; x < x1; ++x) {  // the row's tail, as the reference does it
+    for (; x + lanes <= x1; x += lanes) CountVector(df, zr, zo, x, eps_m, &drawn, &inliers, &occluded);
+    // The row's tail in narrower whole vectors (never past x1), then one pixel at a time.
+    if (lanes8 < lanes && x + lanes8 <= x1) CountVector(d8, zr, zo, x, eps_m, &drawn, &inliers, &occluded), x += lanes8;
+    if (lanes4 < lanes8 && x + lanes4 <= x1) CountVector(d4, zr, zo, x, eps_m, &drawn, &inliers, &occluded), x += lanes4;
+    for (; x < x1; ++x) {  // as the reference does it
       const bool d = zr[x] != INFINITY, valid = zo[x] > 0.f;
       drawn += d;
       inliers += d & valid & (std::fabs(zr[x] - zo[x]) < eps_m);
