@@ -156,7 +156,7 @@ void AddBenchCommand(CLI::App& app, Status* status) {
   cmd->add_flag("--cluster-culling,!--no-cluster-culling", o.cluster_culling,
                 "Drop whole triangle clusters before setup (default on)");
   cmd->add_flag("--batched-setup,!--no-batched-setup", o.batched_setup,
-                "Classify triangles a SIMD vector at a time before setup (default on)");
+                "Classify and set up triangles a SIMD vector at a time (default on)");
   cmd->add_option("--seed", o.seed, "Random seed")->capture_default_str();
   cmd->add_option("--baselines", args->baselines, "Comma-separated: embree,osmesa (same hypotheses, same boxes)");
   cmd->add_option("--json", args->json, "Write {machine, options, objects: [...]} here");

@@ -192,7 +192,7 @@ void AddEstimateCommand(CLI::App& app, Status* status) {
   cmd->add_flag("--cluster-culling,!--no-cluster-culling", o.cluster_culling,
                 "Drop whole triangle clusters outside the box or facing away before setup (fixed, simd; with LOD; default on)");
   cmd->add_flag("--batched-setup,!--no-batched-setup", o.batched_setup,
-                "Classify triangles a SIMD vector at a time before the per-triangle setup (fixed, simd; same results; default on)");
+                "Classify and set up triangles a SIMD vector at a time (fixed, simd; same results; default on)");
   cmd->add_flag("-q,--quiet", args->quiet, "No progress output");
   cmd->callback([args, status] { *status = RunEstimate(*args); });
 }

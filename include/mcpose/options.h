@@ -82,9 +82,10 @@ struct EstimatorOptions {
   // to 64 triangles that lie outside the box or face away, before triangle setup; the same
   // inlier counts as culling triangle by triangle in the tests (render/clusters.h).
   bool cluster_culling = true;
-  // Batched triangle setup (fixed and simd engines): snap each sample's vertices once and
-  // decide back-facing, outside-box and between-pixel triangles a SIMD vector at a time, leaving
-  // the per-triangle fixed-point setup to the rest. Bit-identical z-buffers and counters.
+  // Batched triangle setup (fixed and simd engines): snap each sample's vertices once, decide
+  // back-facing, outside-box and between-pixel triangles a SIMD vector at a time, and set up the
+  // rest a SIMD vector at a time too (render/setup_simd.cc). Bit-identical z-buffers and
+  // counters to the per-triangle setup.
   bool batched_setup = true;
   // Pixel stride: score each box on every pixel_stride-th pixel in x and y (the same rays,
   // pixel_stride^2 times fewer; engine/raster_cores.h); the LOD budget is in these raster

@@ -67,8 +67,8 @@ struct ScoreJob {
   InlierMode inlier_mode = InlierMode::k1D;
   float eps_m = 0.01f;
   bool cull_backfaces = true;
-  // Fixed-point and SIMD cores: snap each sample's vertices once and classify its triangles a
-  // vector at a time before the per-triangle setup (render/setup_simd.cc); the same results.
+  // Fixed-point and SIMD cores: snap each sample's vertices once, classify and set up its
+  // triangles a vector at a time (render/setup_simd.cc); the same results as one at a time.
   bool batched_setup = true;
 };
 

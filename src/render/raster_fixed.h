@@ -126,9 +126,9 @@ void SetupSurvivors(const SnappedVertices& snapped, std::span<const ScreenVertex
                     std::span<const uint32_t> survivors, FixedTriangle* out, uint8_t* ready);
 
 // Renders the triangles. With `snapped` (SnapVertices of these vertices and params), setup is
-// batched: ClassifyTriangles first, SetupBatchedTriangle for its survivors only; the z-buffer
-// and every statistic are identical to the per-triangle setup (triangle order does not change
-// a z-buffer of minima or the counts).
+// batched: ClassifyTriangles first, then SetupSurvivors, and SetupBatchedTriangle for the
+// survivors it leaves; the z-buffer and every statistic are identical to the per-triangle
+// setup (triangle order does not change a z-buffer of minima or the counts).
 void RasterizeDepthFixedPoint(std::span<const ScreenVertex> vertices,
                               std::span<const std::array<uint32_t, 3>> triangles,
                               const RasterParams& params, float* zbuf, RasterStats* stats,
