@@ -21,6 +21,7 @@
 #include "render/lod.h"
 #include "render/raster.h"
 #include "score/inlier.h"
+#include "raster_test_util.h"
 #include "test_data.h"
 
 namespace mcpose {
@@ -273,12 +274,7 @@ TEST(RasterCoresRealData, ClusterCullingGivesTheSameCounts) {
           render::RasterStats per_triangle_stats;
           cores.Score(job, particles, per_triangle, &per_triangle_stats);
           EXPECT_EQ(per_triangle, clustered) << "obj " << obj_id << " stride " << stride << " level " << level;
-          EXPECT_EQ(per_triangle_stats.fragments, clustered_stats.fragments);
-          EXPECT_EQ(per_triangle_stats.rasterized, clustered_stats.rasterized);
-          EXPECT_EQ(per_triangle_stats.culled_backface, clustered_stats.culled_backface);
-          EXPECT_EQ(per_triangle_stats.culled_outside_box, clustered_stats.culled_outside_box);
-          EXPECT_EQ(per_triangle_stats.culled_between_pixels, clustered_stats.culled_between_pixels);
-          EXPECT_EQ(per_triangle_stats.culled_degenerate, clustered_stats.culled_degenerate);
+          EXPECT_EQ(per_triangle_stats, clustered_stats) << "obj " << obj_id << " level " << level;
         }
       }
     }

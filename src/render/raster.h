@@ -51,6 +51,7 @@ struct RasterStats {
   int64_t clusters_culled_outside_box = 0;
 
   RasterStats& operator+=(const RasterStats& o);
+  bool operator==(const RasterStats&) const = default;
 };
 
 // A vertex after the camera transform: pixel coordinates and camera depth.

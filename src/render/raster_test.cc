@@ -11,6 +11,8 @@
 #include <gtest/gtest.h>
 #include <hwy/targets.h>
 
+#include "raster_test_util.h"
+
 namespace mcpose::render {
 namespace {
 
@@ -29,14 +31,6 @@ Scene RandomScene(std::mt19937_64& gen, int n) {
     s.triangles.push_back({uint32_t(3 * i), uint32_t(3 * i + 1), uint32_t(3 * i + 2)});
   }
   return s;
-}
-
-RasterParams Params(bool cull) {
-  RasterParams p;
-  p.fx = 1066.778f, p.fy = 1067.487f, p.cx = 312.9869f, p.cy = 241.3109f;
-  p.box = PixelRect{200, 150, 420, 330};
-  p.cull_backfaces = cull;
-  return p;
 }
 
 // Brute force: for every pixel, intersect its viewing ray with every triangle in double
@@ -84,7 +78,7 @@ TEST_P(RasterVsBruteForce, CoverageAndDepthMatchOnRandomTriangles) {
   std::mt19937_64 gen(cull ? 11 : 12);
   for (int trial = 0; trial < 20; ++trial) {
     const Scene s = RandomScene(gen, 60);
-    const RasterParams p = Params(cull);
+    const RasterParams p = TestRasterParams(cull);
     std::vector<ScreenVertex> sv(s.vertices.size());
     ProjectVertices(s.vertices, Eigen::Matrix3f::Identity(), Eigen::Vector3f::Zero(), p, sv);
     std::vector<float> zbuf(p.box.area(), INFINITY);
@@ -126,7 +120,7 @@ TEST(Raster, SharedEdgesCoverEachPixelOnce) {
   s.vertices = {{-0.05f, -0.05f, 1.f}, {0.05f, -0.05f, 1.f}, {0.05f, 0.05f, 1.f}, {-0.05f, 0.05f, 1.f}};
   // Counter-clockwise seen from the camera side (the normal points to -z).
   s.triangles = {{0, 2, 1}, {0, 3, 2}};
-  RasterParams p = Params(true);
+  RasterParams p = TestRasterParams(true);
   p.fx = p.fy = 1000.f;
   p.cx = 300.f, p.cy = 240.f;
   std::vector<ScreenVertex> sv(4);
@@ -143,7 +137,7 @@ TEST(Raster, BackfacesAreCulledAndNearPlaneTrianglesDropped) {
   Scene s;
   s.vertices = {{-0.05f, -0.05f, 1.f}, {0.05f, -0.05f, 1.f}, {0.05f, 0.05f, 1.f}, {0.f, 0.f, 0.01f}};
   s.triangles = {{0, 1, 2} /* back face */, {0, 2, 1} /* front */, {0, 1, 3} /* near */};
-  RasterParams p = Params(true);
+  RasterParams p = TestRasterParams(true);
   std::vector<ScreenVertex> sv(4);
   ProjectVertices(s.vertices, Eigen::Matrix3f::Identity(), Eigen::Vector3f::Zero(), p, sv);
   std::vector<float> zbuf(p.box.area(), INFINITY);
@@ -166,7 +160,7 @@ TEST_P(FixedVsReference, CoverageAndDepthAgreeOnRandomTriangles) {
   int64_t pixels = 0, differ = 0;
   for (int trial = 0; trial < 30; ++trial) {
     const Scene s = RandomScene(gen, 80);
-    const RasterParams p = Params(cull);
+    const RasterParams p = TestRasterParams(cull);
     std::vector<ScreenVertex> sv(s.vertices.size());
     ProjectVertices(s.vertices, Eigen::Matrix3f::Identity(), Eigen::Vector3f::Zero(), p, sv);
     std::vector<float> z_ref(p.box.area(), INFINITY), z_fix(p.box.area(), INFINITY);
@@ -200,7 +194,7 @@ TEST(RasterFixed, HugeAndOffscreenTrianglesFallBackToFloatPath) {
   Scene s;
   s.vertices = {{-50.f, -50.f, 1.f}, {50.f, 50.f, 1.f}, {50.f, -50.f, 1.f}};
   s.triangles = {{0, 1, 2}};
-  const RasterParams p = Params(false);
+  const RasterParams p = TestRasterParams(false);
   std::vector<ScreenVertex> sv(3);
   ProjectVertices(s.vertices, Eigen::Matrix3f::Identity(), Eigen::Vector3f::Zero(), p, sv);
   std::vector<float> z_ref(p.box.area(), INFINITY), z_fix(p.box.area(), INFINITY);
@@ -220,7 +214,7 @@ TEST(Raster, CoverBoundHoldsEveryWrittenPixel) {
   for (int trial = 0; trial < 40; ++trial) {
     // A few triangles, so the bound is often much smaller than the box.
     const Scene s = RandomScene(gen, 1 + trial % 4);
-    RasterParams p = Params(trial % 2 == 0);
+    RasterParams p = TestRasterParams(trial % 2 == 0);
     std::vector<ScreenVertex> sv(s.vertices.size());
     ProjectVertices(s.vertices, Eigen::Matrix3f::Identity(), Eigen::Vector3f::Zero(), p, sv);
     const PixelRect r = CoverBound(sv, p.box);
@@ -242,11 +236,11 @@ TEST(Raster, CoverBoundHoldsEveryWrittenPixel) {
     }
   }
   // No vertices, or all far outside: empty.
-  EXPECT_TRUE(CoverBound({}, Params(true).box).empty());
+  EXPECT_TRUE(CoverBound({}, TestRasterParams(true).box).empty());
   const ScreenVertex far[3] = {{-500, -500, 1}, {-400, -500, 1}, {-500, -400, 1}};
-  EXPECT_TRUE(CoverBound(far, Params(true).box).empty());
+  EXPECT_TRUE(CoverBound(far, TestRasterParams(true).box).empty());
   const ScreenVertex nan[1] = {{NAN, 0, 1}};
-  EXPECT_EQ(CoverBound(nan, Params(true).box).area(), Params(true).box.area());
+  EXPECT_EQ(CoverBound(nan, TestRasterParams(true).box).area(), TestRasterParams(true).box.area());
 }
 
 
@@ -269,7 +263,7 @@ TEST(RasterSimd, BitIdenticalToScalarRowsOnEveryTarget) {
         s.triangles.push_back({n - 3, n - 2, n - 1});
         s.triangles.push_back({n - 3, n - 1, n - 2});
       }
-      const RasterParams p = Params(trial % 2 == 0);
+      const RasterParams p = TestRasterParams(trial % 2 == 0);
       std::vector<ScreenVertex> sv(s.vertices.size());
       ProjectVertices(s.vertices, Eigen::Matrix3f::Identity(), Eigen::Vector3f::Zero(), p, sv);
       std::vector<float> z_scalar(p.box.area(), INFINITY), z_simd(p.box.area() + kSimdPadFloats, INFINITY);
@@ -296,7 +290,7 @@ namespace {
 // Narrow triangles (4 to 20 pixels wide) take the 4- and 8-lane row kernels: bit-identical to
 // the scalar rows on every target, at every sub-pixel offset tried.
 TEST(RasterSimd, NarrowTrianglesBitIdenticalOnEveryTarget) {
-  const RasterParams p = Params(true);
+  const RasterParams p = TestRasterParams(true);
   std::mt19937_64 gen(5);
   std::uniform_real_distribution<float> frac(0.f, 1.f);
   for (int64_t target : hwy::SupportedAndGeneratedTargets()) {

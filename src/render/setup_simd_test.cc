@@ -12,17 +12,10 @@
 
 #include "render/raster.h"
 #include "render/raster_fixed.h"
+#include "raster_test_util.h"
 
 namespace mcpose::render {
 namespace {
-
-RasterParams Params(bool cull) {
-  RasterParams p;
-  p.fx = 1066.778f, p.fy = 1067.487f, p.cx = 312.9869f, p.cy = 241.3109f;
-  p.box = PixelRect{200, 150, 420, 330};
-  p.cull_backfaces = cull;
-  return p;
-}
 
 struct ScreenScene {
   std::vector<ScreenVertex> vertices;
@@ -89,7 +82,7 @@ TEST(BatchedSetup, SnapsAndClassifiesAsSetupFixedTriangleOnEveryTarget) {
     hwy::SetSupportedTargetsForTest(target);
     std::mt19937_64 gen(7);
     for (int trial = 0; trial < 8; ++trial) {
-      const RasterParams params = Params(trial % 2 == 0);
+      const RasterParams params = TestRasterParams(trial % 2 == 0);
       const ScreenScene s = RandomScreenScene(gen, 997, params.box);  // not a multiple of any vector
       SnappedVertices snapped;
       SnapVertices(s.vertices, params, &snapped);
@@ -196,7 +189,7 @@ TEST(BatchedSetup, RasterizesBitIdenticallyOnEveryTarget) {
     hwy::SetSupportedTargetsForTest(target);
     std::mt19937_64 gen(11);
     for (int trial = 0; trial < 8; ++trial) {
-      const RasterParams params = Params(trial % 2 == 0);
+      const RasterParams params = TestRasterParams(trial % 2 == 0);
       const ScreenScene s = RandomScreenScene(gen, 301, params.box);
       for (RowKernel rows : {RowKernel::kScalar, RowKernel::kSimd}) {
         std::vector<float> z_ref(params.box.area() + kSimdPadFloats, INFINITY), z_batch = z_ref;
@@ -207,14 +200,7 @@ TEST(BatchedSetup, RasterizesBitIdenticallyOnEveryTarget) {
         RasterizeDepthFixedPoint(s.vertices, s.triangles, params, z_batch.data(), &st_batch, rows, &snapped);
         ASSERT_EQ(0, std::memcmp(z_ref.data(), z_batch.data(), z_ref.size() * sizeof(float)))
             << hwy::TargetName(target) << " trial " << trial;
-        EXPECT_EQ(st_batch.triangles, st_ref.triangles);
-        EXPECT_EQ(st_batch.culled_near, st_ref.culled_near);
-        EXPECT_EQ(st_batch.culled_degenerate, st_ref.culled_degenerate);
-        EXPECT_EQ(st_batch.culled_backface, st_ref.culled_backface);
-        EXPECT_EQ(st_batch.culled_outside_box, st_ref.culled_outside_box);
-        EXPECT_EQ(st_batch.culled_between_pixels, st_ref.culled_between_pixels);
-        EXPECT_EQ(st_batch.rasterized, st_ref.rasterized);
-        EXPECT_EQ(st_batch.fragments, st_ref.fragments);
+        EXPECT_EQ(st_batch, st_ref) << hwy::TargetName(target) << " trial " << trial;
         EXPECT_GT(st_ref.rasterized, 0);
       }
     }
