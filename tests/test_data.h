@@ -2,9 +2,13 @@
 // (CMake cache variable MCPOSE_DATA_DIR, default ../shared/data beside the source tree).
 #pragma once
 
+#include <unistd.h>
+
 #include <cstdlib>
 #include <filesystem>
 #include <string>
+#include <system_error>
+#include <vector>
 
 namespace mcpose::testing {
 
@@ -15,11 +19,28 @@ inline std::string DataDir() {
 inline std::string YcbvDir() { return DataDir() + "/ycbv"; }
 inline std::string BopDir() { return DataDir() + "/bop_ycbv_subset"; }
 
-// A fresh empty folder under the system temp dir for one test.
+// The folders TempDir made in this process, removed when it exits.
+struct TempDirRegistry {
+  std::vector<std::filesystem::path> dirs;
+  ~TempDirRegistry() {
+    std::error_code ec;
+    for (const auto& d : dirs) std::filesystem::remove_all(d, ec);
+  }
+};
+inline TempDirRegistry& TempDirs() {
+  static TempDirRegistry registry;
+  return registry;
+}
+
+// A fresh empty folder under the system temp dir for one test, removed at process exit. The
+// process id keeps test processes that ctest runs in parallel (e.g. the instances of a
+// parameterized test, which pass the same name) out of each other's folders.
 inline std::filesystem::path TempDir(const std::string& name) {
-  auto dir = std::filesystem::temp_directory_path() / ("mcpose_test_" + name);
+  auto dir = std::filesystem::temp_directory_path() /
+             ("mcpose_test_" + name + "_" + std::to_string(static_cast<long>(::getpid())));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
+  TempDirs().dirs.push_back(dir);
   return dir;
 }
 
