@@ -92,6 +92,9 @@ StatusOr<std::vector<BenchObject>> RunBench(const Dataset& ds, const BenchOption
   eo.max_iterations = options.iterations;
   std::string error;
   if (!eo.IsValid(&error)) return InvalidArgument("invalid options: " + error);
+  // The baselines count 1-D inliers, and the boxes below are distributed for that test.
+  if (eo.inlier_mode != InlierMode::k1D)
+    return InvalidArgument("invalid options: the benchmark times the 1-D inlier test (inlier_mode 1d)");
   MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<Estimator> estimator, Estimator::Create(eo));
   engine::RasterCores cores(eo.threads, eo.backend);
 
@@ -151,9 +154,7 @@ StatusOr<std::vector<BenchObject>> RunBench(const Dataset& ds, const BenchOption
     if (eo.cluster_culling && eo.lod_error_px > 0) job.box_clusters = box_clusters;
     job.K = K;
     job.boxes = boxes;
-    job.eps_m = static_cast<float>(eo.eps_m);
-    job.cull_backfaces = eo.backface_culling;
-    job.batched_setup = eo.batched_setup;
+    engine::SetEngineOptions(eo, &job);
     std::vector<score::InlierCounts> counts(particles.size());
     std::vector<double> times;
     for (int k = 0; k < options.render_repeats; ++k) {

@@ -127,10 +127,7 @@ StatusOr<ObjectEstimate> Estimator::Estimate(const Intrinsics& K, const DepthIma
   job.box_clusters = box_clusters;
   job.K = K;
   job.boxes = box_depth;
-  job.inlier_mode = opt.inlier_mode;
-  job.eps_m = static_cast<float>(opt.eps_m);
-  job.cull_backfaces = opt.backface_culling;
-  job.batched_setup = opt.batched_setup;
+  engine::SetEngineOptions(opt, &job);
 
   std::vector<score::InlierCounts> counts(n);
   filter::CdfSampler sampler;

@@ -71,6 +71,13 @@ int64_t UnionSamples(std::span<const BoxDepth* const> boxes) {
   return std::count(covered.begin(), covered.end(), 1);
 }
 
+void SetEngineOptions(const EstimatorOptions& options, ScoreJob* job) {
+  job->inlier_mode = options.inlier_mode;
+  job->eps_m = static_cast<float>(options.eps_m);
+  job->cull_backfaces = options.backface_culling;
+  job->batched_setup = options.batched_setup;
+}
+
 RasterCores::RasterCores(int threads, RasterBackend backend)
     : pool_(threads), backend_(backend), scratch_(pool_.size()) {}
 

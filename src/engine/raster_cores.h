@@ -72,6 +72,10 @@ struct ScoreJob {
   bool batched_setup = true;
 };
 
+// The job's per-pixel and per-triangle settings from the options (inlier test, eps, back-face
+// culling, batched setup): one place, so the estimator and the benchmark score alike.
+void SetEngineOptions(const EstimatorOptions& options, ScoreJob* job);
+
 class RasterCores {
  public:
   RasterCores(int threads, RasterBackend backend);
