@@ -142,10 +142,9 @@ namespace {
 
 // The rows of one set-up triangle, counted in *s.
 inline void FillOne(const FixedTriangle& ft, float* zbuf, int stride, RowKernel rows, RasterStats* s) {
-  // Walk the bounding box: a vector of pixels at a time where the edge functions fit in 32
-  // bits and rows are wide enough to fill one; tiny triangles (full meshes far away) are
-  // cheaper one pixel at a time. Both kernels give bit-identical results.
-  const bool simd = rows == RowKernel::kSimd && ft.simd_fits && ft.x_hi - ft.x_lo + 1 >= kMinSimdRowPx;
+  // Walk the bounding box a vector of pixels at a time where the edge functions fit in 32 bits
+  // (render/raster_simd.cc); both kernels give bit-identical results.
+  const bool simd = rows == RowKernel::kSimd && ft.simd_fits;
   const int64_t covered = simd ? FillTriangleSimd(ft, zbuf, stride) : FillTriangleScalar(ft, zbuf, stride);
   if (covered == 0) {
     ++s->culled_between_pixels;

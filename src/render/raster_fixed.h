@@ -28,10 +28,6 @@ inline constexpr int32_t kMaxSpanPx = 2048;     // triangles wider or taller tha
 // Triangles whose bounding box spans at most this many pixels per side have edge functions
 // that fit in 32 bits (|E| < 2^30), so the SIMD row kernel can take them.
 inline constexpr int32_t kMaxSimdSpanPx = 1024;
-// RowKernel::kSimd walks triangles whose bounding box is narrower than this one pixel at a
-// time (FillTriangleScalar). Measured with `mcpose bench` (BENCHMARKS.md machine): 4 is as fast
-// as 1-3 everywhere and 6 % faster than 6 on the mustard bottle at pixel stride 2; 10 is slower.
-inline constexpr int32_t kMinSimdRowPx = 4;
 // Slack (floats) the SIMD kernel needs after the last z-buffer pixel: the widest vector.
 inline constexpr size_t kSimdPadFloats = 64;
 
@@ -74,7 +70,9 @@ TriangleSetup SetupSnappedTriangle(const int32_t X[3], const int32_t Y[3], const
 //                       functions; requires a span of at most kMaxSimdSpanPx and
 //                       kSimdPadFloats of readable, writable slack after the z-buffer (whole
 //                       vectors are loaded and stored back; pixels past a row's end are
-//                       written back unchanged). Bit-identical to FillTriangleScalar (same
+//                       written back unchanged). Triangles at most 4 (AVX2, AVX-512) or 8
+//                       (AVX-512) pixels wide take blocks of several rows per vector; wider
+//                       ones a row at a time. Bit-identical to FillTriangleScalar (same
 //                       integer coverage, same float operations, no FMA contraction).
 int64_t FillTriangleScalar(const FixedTriangle& t, float* zbuf, int stride);
 int64_t FillTriangleSimd(const FixedTriangle& t, float* zbuf, int stride);

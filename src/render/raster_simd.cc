@@ -1,6 +1,7 @@
 // The SIMD row kernel of the fixed-point raster core (see raster_fixed.h): N pixels of a row
 // at a time with Highway, compiled for every target Highway knows here and dispatched at run
 // time. FillTriangleScalar (raster_fixed.cc) is its reference.
+#include <algorithm>
 #include <cstdint>
 #include <string>
 
@@ -61,13 +62,98 @@ HWY_INLINE int64_t FillRows(DF df, const FixedTriangle& t, float* zbuf, int stri
   return covered;
 }
 
-// Narrow triangles take narrower vectors: a row of 8 pixels or fewer costs one 8-lane vector
-// instead of a mostly empty 16-lane one. Bit-identical at every width.
+#if HWY_TARGET != HWY_SCALAR  // one lane: no blocks
+// A block of kW pixels x (lanes / kW) rows in one vector, row r of the block at rows[r] (the
+// first row in the lowest lanes). Loads and stores split the vector into halves until a half
+// is one row wide.
+template <size_t kW, class D>
+HWY_INLINE hn::Vec<D> LoadBlock(D d, float* const* rows) {
+  if constexpr (hn::MaxLanes(D()) == kW) {
+    return hn::LoadU(d, rows[0]);
+  } else {
+    const hn::Half<D> dh;
+    constexpr size_t kHalfRows = hn::MaxLanes(D()) / 2 / kW;
+    return hn::Combine(d, LoadBlock<kW>(dh, rows + kHalfRows), LoadBlock<kW>(dh, rows));
+  }
+}
+// Stores the rows last to first: rows past the triangle's last one alias it (see FillBlocks),
+// hold its old values, and must be overwritten by it.
+template <size_t kW, class D>
+HWY_INLINE void StoreBlock(D d, hn::Vec<D> v, float* const* rows) {
+  if constexpr (hn::MaxLanes(D()) == kW) {
+    hn::StoreU(v, d, rows[0]);
+  } else {
+    const hn::Half<D> dh;
+    constexpr size_t kHalfRows = hn::MaxLanes(D()) / 2 / kW;
+    StoreBlock<kW>(dh, hn::UpperHalf(dh, v), rows + kHalfRows);
+    StoreBlock<kW>(dh, hn::LowerHalf(dh, v), rows);
+  }
+}
+
+// Triangles at most kW pixels wide, several rows per vector: lane i is pixel
+// (x_lo + i % kW, y + i / kW). Same integer coverage and float operations per pixel as the
+// scalar kernel. Rows past y_hi are masked out; their pointers alias row y_hi, so nothing
+// outside the triangle's rows (and the kSimdPadFloats slack after a row) is touched.
+template <size_t kW, class DF>
+HWY_INLINE int64_t FillBlocks(DF df, const FixedTriangle& t, float* zbuf, int stride) {
+  const hn::RebindToSigned<DF> di;
+  constexpr size_t kLanes = hn::MaxLanes(DF());
+  constexpr int32_t kRows = static_cast<int32_t>(kLanes / kW);
+  static_assert(kRows > 1 && kRows * kW == kLanes);
+  const auto lane = hn::Iota(di, 0);
+  const auto lx = hn::And(lane, hn::Set(di, static_cast<int32_t>(kW - 1)));
+  const auto ly = hn::ShiftRight<hwy::CeilLog2(kW)>(lane);
+  decltype(hn::Zero(di)) w[3], block_step[3];
+  for (int k = 0; k < 3; ++k) {
+    const auto offset = hn::Add(hn::Mul(lx, hn::Set(di, static_cast<int32_t>(t.step_x[k]))),
+                                hn::Mul(ly, hn::Set(di, static_cast<int32_t>(t.step_y[k]))));
+    w[k] = hn::Add(hn::Set(di, static_cast<int32_t>(t.w_row[k])), offset);
+    block_step[k] = hn::Set(di, static_cast<int32_t>(t.step_y[k] * kRows));
+  }
+  const auto in_span = hn::Lt(lx, hn::Set(di, t.x_hi - t.x_lo + 1));
+  // A x per lane, rounded as the scalar kernel rounds it before adding B y + C.
+  const auto ax = hn::Mul(hn::Set(df, t.A), hn::ConvertTo(df, hn::Add(lx, hn::Set(di, t.x_lo))));
+  const auto fB = hn::Set(df, t.B), fC = hn::Set(df, t.C);
+  const auto one = hn::Set(df, 1.0f);
+  const auto minus_one = hn::Set(di, -1);  // E >= 0  <=>  E > -1 (integers)
+  int64_t covered = 0;
+  float* rows[kRows];
+  for (int32_t y = t.y_lo; y <= t.y_hi; y += kRows) {
+    for (int32_t r = 0; r < kRows; ++r) {
+      rows[r] = zbuf + static_cast<size_t>(std::min(y + r, t.y_hi)) * stride + t.x_lo;
+    }
+    const auto in_rows = hn::Lt(ly, hn::Set(di, t.y_hi - y + 1));
+    const auto inside = hn::And(hn::And(in_span, in_rows), hn::Gt(hn::Or(hn::Or(w[0], w[1]), w[2]), minus_one));
+    covered += static_cast<int64_t>(hn::CountTrue(di, inside));
+    const auto row_c = hn::Add(hn::Mul(fB, hn::ConvertTo(df, hn::Add(ly, hn::Set(di, y)))), fC);
+    const auto z = hn::Div(one, hn::Add(ax, row_c));
+    const auto dst = LoadBlock<kW>(df, rows);
+    const auto keep = hn::And(hn::RebindMask(df, inside), hn::Lt(z, dst));
+    StoreBlock<kW>(df, hn::IfThenElse(keep, z, dst), rows);
+    for (int k = 0; k < 3; ++k) w[k] = hn::Add(w[k], block_step[k]);
+  }
+  return covered;
+}
+#endif  // HWY_TARGET != HWY_SCALAR
+
+// Narrow triangles take several rows per vector where the vector holds at least two rows of
+// 4 or 8 pixels, and otherwise narrower vectors: a row of 8 pixels or fewer costs one 8-lane
+// vector instead of a mostly empty 16-lane one. Bit-identical at every width.
 int64_t FillTriangleRows(const FixedTriangle& t, float* zbuf, int stride) {
   const int32_t span = t.x_hi - t.x_lo + 1;
+  const hn::ScalableTag<float> df;
+#if HWY_TARGET != HWY_SCALAR
+  constexpr size_t kLanes = hn::MaxLanes(df);
+  if constexpr (kLanes >= 8 && kLanes <= 16) {
+    if (span <= 4) return FillBlocks<4>(df, t, zbuf, stride);
+    if constexpr (kLanes == 16) {
+      if (span <= 8) return FillBlocks<8>(df, t, zbuf, stride);
+    }
+  }
+#endif
   if (span <= 4) return FillRows(hn::CappedTag<float, 4>(), t, zbuf, stride);
   if (span <= 8) return FillRows(hn::CappedTag<float, 8>(), t, zbuf, stride);
-  return FillRows(hn::ScalableTag<float>(), t, zbuf, stride);
+  return FillRows(df, t, zbuf, stride);
 }
 
 }  // namespace HWY_NAMESPACE

@@ -287,34 +287,47 @@ TEST(RasterSimd, BitIdenticalToScalarRowsOnEveryTarget) {
 namespace mcpose::render {
 namespace {
 
-// Narrow triangles (4 to 20 pixels wide) take the 4- and 8-lane row kernels: bit-identical to
-// the scalar rows on every target, at every sub-pixel offset tried.
+// Narrow triangles (1 to 20 pixels wide, 1 to 12 rows) take the multi-row blocks and the 4-
+// and 8-lane row kernels: bit-identical to the scalar rows on every target, at every sub-pixel
+// offset tried, over a z-buffer of random depths (so the depth test decides), and at the box's
+// last rows and columns (where a block's rows past the triangle alias its last row).
 TEST(RasterSimd, NarrowTrianglesBitIdenticalOnEveryTarget) {
   const RasterParams p = TestRasterParams(true);
+  const float bw = static_cast<float>(p.box.width()), bh = static_cast<float>(p.box.height());
   std::mt19937_64 gen(5);
   std::uniform_real_distribution<float> frac(0.f, 1.f);
   for (int64_t target : hwy::SupportedAndGeneratedTargets()) {
     hwy::SetSupportedTargetsForTest(target);
-    int filled = 0;
-    for (int width = 4; width <= 20; ++width) {
-      for (int trial = 0; trial < 20; ++trial) {
-        const float u0 = 250.f + frac(gen), v0 = 200.f + frac(gen);
-        const ScreenVertex a{u0, v0, 0.8f}, b{u0 + width * frac(gen), v0 + 3.f + 6.f * frac(gen), 0.9f},
-            c{u0 + static_cast<float>(width), v0 - 1.f - 4.f * frac(gen), 0.85f};
+    int filled = 0, kept_old = 0;
+    std::vector<float> background(p.box.area() + kSimdPadFloats, INFINITY);
+    std::uniform_real_distribution<float> depth(0.75f, 0.95f);
+    for (size_t i = 0; i < static_cast<size_t>(p.box.area()); ++i) background[i] = depth(gen);
+    for (int width = 1; width <= 20; ++width) {
+      for (int trial = 0; trial < 30; ++trial) {
+        const float height = 1.f + 11.f * frac(gen);
+        // Inside the box, or against its right and bottom edges (clipped there).
+        const float u0 = trial % 3 == 1 ? p.box.x0 + bw - width * frac(gen) - 1.f : 250.f + frac(gen);
+        const float v0 = trial % 3 == 2 ? p.box.y0 + bh - height * frac(gen) - 1.f : 200.f + frac(gen);
+        const ScreenVertex a{u0, v0, 0.8f}, b{u0 + width * frac(gen), v0 + height, 0.9f},
+            c{u0 + static_cast<float>(width), v0 + height * frac(gen) - 1.f, 0.85f};
         FixedTriangle ft;
         TriangleSetup setup = SetupFixedTriangle(a, b, c, p, &ft);
         if (setup == TriangleSetup::kCulledBackface) setup = SetupFixedTriangle(a, c, b, p, &ft);  // the front face
-        ASSERT_EQ(setup, TriangleSetup::kReady) << "width " << width;
-        std::vector<float> z_scalar(p.box.area() + kSimdPadFloats, INFINITY), z_simd = z_scalar;
+        if (setup != TriangleSetup::kReady) continue;  // degenerate, or between pixel centres
+        std::vector<float> z_scalar = background, z_simd = background;
         const int64_t n_scalar = FillTriangleScalar(ft, z_scalar.data(), p.box.width());
         const int64_t n_simd = FillTriangleSimd(ft, z_simd.data(), p.box.width());
         ASSERT_EQ(n_simd, n_scalar) << hwy::TargetName(target) << " width " << width;
         ASSERT_EQ(0, std::memcmp(z_scalar.data(), z_simd.data(), z_scalar.size() * sizeof(float)))
             << hwy::TargetName(target) << " width " << width << " trial " << trial;
         filled += n_scalar > 0;
+        int64_t changed = 0;
+        for (size_t i = 0; i < background.size(); ++i) changed += z_scalar[i] != background[i];
+        kept_old += n_scalar > changed;  // some covered pixels were behind the old depth
       }
     }
-    EXPECT_GT(filled, 200) << hwy::TargetName(target);
+    EXPECT_GT(filled, 400) << hwy::TargetName(target);
+    EXPECT_GT(kept_old, 100) << hwy::TargetName(target) << ": the depth test should keep some old depths";
   }
   hwy::SetSupportedTargetsForTest(0);
 }
