@@ -18,6 +18,7 @@
 
 #include "io/png_io.h"
 #include "mcpose/results.h"
+#include "mcpose/options.h"
 #include "test_data.h"
 
 namespace mcpose {
@@ -209,6 +210,37 @@ INSTANTIATE_TEST_SUITE_P(Engines, CliThreads,
                          ::testing::Values("--engine scalar", "--engine fixed", "--engine simd --lod-px 1"),
                          EngineTestName);
 
+// --simd-target: the default (best) target and the last, least capable one give the same rows;
+// an unknown target is one clear error and no CSV.
+TEST(Cli, SimdTargetCapGivesTheSameCsv) {
+  const fs::path dir = testing::TempDir("simd_target");
+  WriteText(dir / "dets.json", Scene49Detections().dump());
+  const std::string targets = SimdTargets();
+  const std::string worst = targets.substr(targets.rfind(' ') + 1);
+  std::vector<std::vector<std::string>> runs;
+  for (const std::string& cap : {std::string(), worst}) {
+    const fs::path out = dir / ("r" + cap + ".csv"), json = dir / ("r" + cap + ".json");
+    const CliResult r = RunCli("estimate --dataset " + testing::YcbvDir() + " --detections " +
+                                   (dir / "dets.json").string() + " --out " + out.string() + " --out-json " +
+                                   json.string() + " --iterations 6 --seed 5 -q" +
+                                   (cap.empty() ? "" : " --simd-target " + cap),
+                               dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    runs.push_back(RowsWithoutTime(out));
+    const std::string used = nlohmann::json::parse(ReadText(json))["options"]["simd_target"];
+    EXPECT_EQ(used, cap.empty() ? targets.substr(0, targets.find(' ')) : cap);
+  }
+  ASSERT_EQ(runs[0].size(), 4u);
+  EXPECT_EQ(runs[0], runs[1]) << "default vs --simd-target " << worst << " (of " << targets << ")";
+  const fs::path bad = dir / "bad.csv";
+  const CliResult e = RunCli("estimate --dataset " + testing::YcbvDir() + " --detections " +
+                                 (dir / "dets.json").string() + " --out " + bad.string() + " --simd-target AVX9",
+                             dir);
+  EXPECT_EQ(e.exit_code, 1);
+  EXPECT_NE(e.err.find("--simd-target must be one of"), std::string::npos) << e.err;
+  EXPECT_FALSE(fs::exists(bad));
+}
+
 // `mcpose bench` on one object with both baselines: every documented JSON field is there, the
 // baselines count the same inliers as mcpose (the comparison is of the same work).
 TEST(Cli, BenchWritesEveryFieldAndBaselinesAgree) {
@@ -241,7 +273,8 @@ TEST(Cli, BenchWritesEveryFieldAndBaselinesAgree) {
   // Bad input: one clear error, no JSON.
   fs::remove(json);
   for (const std::string& bad : {std::string("--objects 99"), std::string("--baselines vulkan"),
-                                 std::string("--iterations 0"), std::string("--engine gpu")}) {
+                                 std::string("--iterations 0"), std::string("--engine gpu"),
+                                 std::string("--simd-target AVX9")}) {
     const CliResult e = RunCli("bench --dataset " + testing::YcbvDir() + " " + bad + " --json " + json.string(), dir);
     EXPECT_EQ(e.exit_code, 1) << bad;
     EXPECT_NE(e.err.find("error"), std::string::npos) << bad << ": " << e.err;

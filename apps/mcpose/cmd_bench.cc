@@ -13,7 +13,7 @@ namespace mcpose::cli {
 namespace {
 
 struct BenchArgs {
-  std::string dataset, split = "test", json, engine = "simd", baselines;
+  std::string dataset, split = "test", json, engine = "simd", baselines, simd_target;
   std::vector<int> objects;
   bench::BenchOptions options;
 };
@@ -75,6 +75,7 @@ Status RunBenchCommand(BenchArgs& a) {
   EstimatorOptions& o = a.options.estimator;
   if (!ParseRasterBackend(a.engine, &o.backend))
     return InvalidArgument("--engine must be scalar, fixed or simd, got '" + a.engine + "'");
+  MCPOSE_RETURN_IF_ERROR(ApplySimdTarget(a.simd_target));
   a.options.obj_ids = a.objects;
   a.options.baselines.clear();
   std::stringstream ss(a.baselines);
@@ -84,9 +85,10 @@ Status RunBenchCommand(BenchArgs& a) {
   MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<Dataset> dataset, Dataset::Open(a.dataset, a.split));
 
   const std::string machine = bench::MachineDescription();
-  std::printf("machine: %s\nengine %s, LOD %.2f px, pixel stride %d, %d samples, %d iterations, threads %d\n",
-              machine.c_str(), RasterBackendName(o.backend), o.lod_error_px, o.pixel_stride, o.samples,
-              a.options.iterations, o.threads);
+  std::printf("machine: %s\nengine %s (SIMD target %s), LOD %.2f px, pixel stride %d, %d samples, %d iterations, "
+              "threads %d\n",
+              machine.c_str(), RasterBackendName(o.backend), ActiveSimdTarget().c_str(), o.lod_error_px,
+              o.pixel_stride, o.samples, a.options.iterations, o.threads);
   std::printf("%-20s %6s %5s %8s %9s | %8s %17s | %8s %17s %9s | %s\n", "object", "tris", "lod", "culled",
               "frags/it", "r+i ms", "(min-max)", "full ms", "(min-max)", "hyp/s", "baselines (ms, x, inlier diff)");
   auto progress = [](const bench::BenchObject& r) {
@@ -116,6 +118,7 @@ Status RunBenchCommand(BenchArgs& a) {
     for (const auto& r : objects) arr.push_back(ObjectJson(r));
     nlohmann::json doc = {{"machine",
                            {{"cpu", machine},
+                            {"simd_targets", SimdTargets()},
                             {"threads", objects.empty() ? o.threads : objects[0].threads}}},
                           {"options",
                            {{"engine", RasterBackendName(o.backend)},
@@ -124,6 +127,7 @@ Status RunBenchCommand(BenchArgs& a) {
                             {"max_grid_pixels", o.max_grid_pixels},
                             {"cluster_culling", o.cluster_culling},
                             {"batched_setup", o.batched_setup},
+                            {"simd_target", ActiveSimdTarget()},
                             {"samples", o.samples},
                             {"iterations", a.options.iterations},
                             {"render_repeats", a.options.render_repeats},
@@ -157,6 +161,7 @@ void AddBenchCommand(CLI::App& app, Status* status) {
                 "Drop whole triangle clusters before setup (default on)");
   cmd->add_flag("--batched-setup,!--no-batched-setup", o.batched_setup,
                 "Classify and set up triangles a SIMD vector at a time (default on)");
+  AddSimdTargetOption(cmd, &args->simd_target);
   cmd->add_option("--seed", o.seed, "Random seed")->capture_default_str();
   cmd->add_option("--baselines", args->baselines, "Comma-separated: embree,osmesa (same hypotheses, same boxes)");
   cmd->add_option("--json", args->json, "Write {machine, options, objects: [...]} here");

@@ -21,6 +21,7 @@ struct EstimateArgs {
   std::vector<double> weights;
   bool no_culling = false;
   bool quiet = false;
+  std::string simd_target;
   EstimatorOptions options;
 };
 
@@ -92,6 +93,7 @@ Status RunEstimate(EstimateArgs& a) {
     o.weight_a = a.weights[0], o.weight_b = a.weights[1], o.weight_c = a.weights[2];
   }
   o.backface_culling = !a.no_culling;
+  MCPOSE_RETURN_IF_ERROR(ApplySimdTarget(a.simd_target));
   std::string error;
   if (!o.IsValid(&error)) return InvalidArgument("invalid options: " + error);
 
@@ -133,6 +135,7 @@ Status RunEstimate(EstimateArgs& a) {
                             {"max_grid_pixels", o.max_grid_pixels},
                             {"cluster_culling", o.cluster_culling},
                             {"batched_setup", o.batched_setup},
+                            {"simd_target", ActiveSimdTarget()},
                             {"threads", o.threads}}},
                           {"objects", objects}};
     MCPOSE_RETURN_IF_ERROR(WriteFileAtomically(a.out_json, doc.dump(1) + "\n"));
@@ -193,6 +196,7 @@ void AddEstimateCommand(CLI::App& app, Status* status) {
                 "Drop whole triangle clusters outside the box or facing away before setup (fixed, simd; with LOD; default on)");
   cmd->add_flag("--batched-setup,!--no-batched-setup", o.batched_setup,
                 "Classify and set up triangles a SIMD vector at a time (fixed, simd; same results; default on)");
+  AddSimdTargetOption(cmd, &args->simd_target);
   cmd->add_flag("-q,--quiet", args->quiet, "No progress output");
   cmd->callback([args, status] { *status = RunEstimate(*args); });
 }

@@ -27,4 +27,8 @@ Status WriteFileAtomically(const std::string& path, const std::string& text);
 // Ok if a file could be created at `path` (its folder exists and is writable).
 Status CheckWritable(const std::string& path);
 
+// --simd-target (estimate, bench): caps the runtime SIMD dispatch; empty = the best target.
+void AddSimdTargetOption(CLI::App* cmd, std::string* name);
+Status ApplySimdTarget(const std::string& name);
+
 }  // namespace mcpose::cli

@@ -43,6 +43,17 @@ Status CheckWritable(const std::string& path) {
   return Status::Ok();
 }
 
+void AddSimdTargetOption(CLI::App* cmd, std::string* name) {
+  cmd->add_option("--simd-target", *name,
+                  "Cap the SIMD dispatch at this Highway target (here: " + SimdTargets() +
+                      "), e.g. AVX2 on an AVX-512 machine; same results; default: the best");
+}
+
+Status ApplySimdTarget(const std::string& name) {
+  if (name.empty() || LimitSimdTarget(name)) return Status::Ok();
+  return InvalidArgument("--simd-target must be one of: " + SimdTargets() + "; got '" + name + "'");
+}
+
 }  // namespace mcpose::cli
 
 int main(int argc, char** argv) {

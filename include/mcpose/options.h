@@ -27,6 +27,15 @@ enum class RasterBackend {
 bool ParseRasterBackend(const std::string& name, RasterBackend* backend);
 const char* RasterBackendName(RasterBackend backend);
 
+// Runtime SIMD dispatch (Highway) of every kernel: the targets compiled in and supported by this
+// CPU, best first (e.g. "AVX3 AVX2 SSE4 SSSE3 SCALAR"), and the one the kernels use now.
+std::string SimdTargets();
+std::string ActiveSimdTarget();
+// Caps the dispatch at `name` for the rest of the process, e.g. "AVX2" to measure the AVX2
+// kernels on an AVX-512 machine. Results do not change (the kernels are bit-identical on every
+// target). Returns false, changing nothing, for a name not in SimdTargets().
+bool LimitSimdTarget(const std::string& name);
+
 struct EstimatorOptions {
   // --- Sampling -------------------------------------------------------------------------
   int samples = 620;          // samples per object class per image, over all its boxes

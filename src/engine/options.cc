@@ -3,6 +3,8 @@
 
 #include "mcpose/options.h"
 
+#include "render/raster_fixed.h"
+
 namespace mcpose {
 
 namespace {
@@ -68,5 +70,9 @@ const char* RasterBackendName(RasterBackend backend) {
   }
   return "unknown";
 }
+
+std::string SimdTargets() { return render::SimdTargetsAvailable(); }
+std::string ActiveSimdTarget() { return render::BestSimdTarget(); }
+bool LimitSimdTarget(const std::string& name) { return render::LimitSimdTargets(name); }
 
 }  // namespace mcpose

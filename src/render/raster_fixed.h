@@ -135,5 +135,10 @@ void RasterizeDepthFixedPoint(std::span<const ScreenVertex> vertices,
 
 // The Highway targets compiled in and supported by this CPU, e.g. "AVX2 SSE4 EMU128".
 std::string SimdTargetsAvailable();
+// The target every SIMD kernel dispatches to now: the first of SimdTargetsAvailable().
+std::string BestSimdTarget();
+// Caps runtime dispatch at the target called `name` (one of SimdTargetsAvailable(), e.g. "AVX2"
+// on an AVX-512 machine) for the rest of the process; false (and no change) for another name.
+bool LimitSimdTargets(const std::string& name);
 
 }  // namespace mcpose::render

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "render/raster_fixed.h"
 
@@ -176,6 +177,21 @@ std::string SimdTargetsAvailable() {
     out += hwy::TargetName(target);
   }
   return out;
+}
+
+std::string BestSimdTarget() {
+  const std::vector<int64_t> targets = hwy::SupportedAndGeneratedTargets();
+  return targets.empty() ? std::string("none") : hwy::TargetName(targets.front());
+}
+
+bool LimitSimdTargets(const std::string& name) {
+  for (int64_t target : hwy::SupportedAndGeneratedTargets()) {
+    if (name != hwy::TargetName(target)) continue;
+    // Better targets have lower bits: disable every bit below this one.
+    hwy::DisableTargets(target - 1);
+    return true;
+  }
+  return false;
 }
 
 }  // namespace mcpose::render
