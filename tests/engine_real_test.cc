@@ -16,6 +16,7 @@
 #include "render/raster_fixed.h"
 #include "engine/raster_cores.h"
 #include "mcpose/dataset.h"
+#include "mcpose/estimator.h"
 #include "mcpose/eval.h"
 #include "render/clusters.h"
 #include "render/lod.h"
@@ -320,6 +321,40 @@ TEST(Lod, SelectPicksTheCoarsestLevelWithinBudget) {
   EXPECT_EQ(render::LodErrorBudgetM(0.f, 1.f, 1000.f), 0.f);
   EXPECT_FLOAT_EQ(render::LodErrorBudgetM(2.f, 0.5f, 1000.f), 0.001f);
   EXPECT_NE(render::MeshFingerprint(m), render::MeshFingerprint(chain.level(chain.num_levels() - 1).mesh));
+}
+
+}  // namespace
+}  // namespace mcpose
+
+namespace mcpose {
+namespace {
+
+// Estimator::PrepareMeshes builds the LOD chains of several real meshes at once (one per raster
+// core); estimates afterwards equal those of an estimator that built each chain on first use.
+TEST(EstimatorRealData, PreparedMeshesGiveTheSameEstimates) {
+  ObjectInFrame mustard, banana;
+  LoadObjectInFrame(FrameKey{2, 1}, 5, &mustard);
+  LoadObjectInFrame(FrameKey{2, 1}, 10, &banana);
+  ASSERT_TRUE(mustard.mesh && banana.mesh);
+  EstimatorOptions opt;
+  opt.samples = 96;
+  opt.max_iterations = 4;
+  opt.threads = 2;
+  auto prepared = std::move(Estimator::Create(opt)).value();
+  auto lazy = std::move(Estimator::Create(opt)).value();
+  const Mesh* meshes[] = {&*mustard.mesh, &*banana.mesh, &*mustard.mesh};  // a repeat is built once
+  prepared->PrepareMeshes(meshes);
+  for (const ObjectInFrame* o : {&mustard, &banana}) {
+    const std::vector<Detection> boxes = {o->box};
+    auto a = prepared->Estimate(o->frame->K, o->frame->depth, *o->mesh, boxes, 7);
+    auto b = lazy->Estimate(o->frame->K, o->frame->depth, *o->mesh, boxes, 7);
+    ASSERT_TRUE(a.ok() && b.ok());
+    EXPECT_EQ(a->box_triangles, b->box_triangles);
+    EXPECT_LT(a->box_triangles[0], static_cast<int>(o->mesh->triangles.size()));  // a coarser level
+    EXPECT_EQ(a->T_cam_obj.R, b->T_cam_obj.R);
+    EXPECT_EQ(a->T_cam_obj.t, b->T_cam_obj.t);
+    EXPECT_EQ(a->mean_weight_history, b->mean_weight_history);
+  }
 }
 
 }  // namespace

@@ -67,6 +67,11 @@ class Estimator {
   StatusOr<ObjectEstimate> Estimate(const Intrinsics& K, const DepthImage& depth, const Mesh& mesh,
                                     std::span<const Detection> boxes, uint64_t stream_id);
 
+  // Builds the level-of-detail chains (and their culling clusters) of these meshes now, one
+  // mesh per raster core, instead of one at a time on their first Estimate. Optional: the
+  // results are the same either way. Nothing to do without LOD (lod_error_px 0).
+  void PrepareMeshes(std::span<const Mesh* const> meshes);
+
   const EstimatorOptions& options() const;
 
  private:

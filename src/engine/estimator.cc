@@ -34,12 +34,17 @@ struct Estimator::Impl {
   std::map<uint64_t, std::shared_ptr<const render::LodChain>> lod_cache;
   Impl(const EstimatorOptions& o) : options(o), cores(o.threads, o.backend) {}
 
+  // The chain of `mesh`, built on first use. Builds run outside the lock (PrepareMeshes runs
+  // several at once); a chain built twice at the same time is the same chain, the first kept.
   std::shared_ptr<const render::LodChain> Lod(const Mesh& mesh) {
     const uint64_t key = render::MeshFingerprint(mesh);
+    {
+      std::lock_guard<std::mutex> lock(lod_mutex);
+      if (auto it = lod_cache.find(key); it != lod_cache.end()) return it->second;
+    }
+    auto built = std::make_shared<const render::LodChain>(render::LodChain::Build(mesh));
     std::lock_guard<std::mutex> lock(lod_mutex);
-    auto& chain = lod_cache[key];
-    if (!chain) chain = std::make_shared<const render::LodChain>(render::LodChain::Build(mesh));
-    return chain;
+    return lod_cache.emplace(key, std::move(built)).first->second;
   }
 };
 
@@ -47,6 +52,17 @@ Estimator::Estimator(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 Estimator::~Estimator() = default;
 
 const EstimatorOptions& Estimator::options() const { return impl_->options; }
+
+void Estimator::PrepareMeshes(std::span<const Mesh* const> meshes) {
+  if (!(impl_->options.lod_error_px > 0) || meshes.empty()) return;
+  // One mesh per chunk; Lod() builds outside any shared state but the cache (locked).
+  impl_->cores.pool().ParallelFor(
+      static_cast<int64_t>(meshes.size()),
+      [&](int64_t begin, int64_t end, int) {
+        for (int64_t i = begin; i < end; ++i) impl_->Lod(*meshes[static_cast<size_t>(i)]);
+      },
+      /*chunks_per_thread=*/static_cast<int>(meshes.size()));
+}
 
 StatusOr<std::unique_ptr<Estimator>> Estimator::Create(const EstimatorOptions& options) {
   std::string error;

@@ -64,6 +64,9 @@ StatusOr<RunReport> RunEstimation(const Dataset& dataset, const std::vector<Dete
   }
   int total = 0;
   for (const auto& [key, by_class] : groups) total += static_cast<int>(by_class.size());
+  std::vector<const Mesh*> mesh_list;
+  for (const auto& [obj_id, mesh] : meshes) mesh_list.push_back(&mesh);
+  estimator->PrepareMeshes(mesh_list);  // the LOD chains, a mesh per raster core
 
   // ---- Estimate each (image, class) ------------------------------------------------------
   RunReport report;
