@@ -5,6 +5,7 @@
 //   BM_TriangleSetup   fixed-point triangle setup alone (snap, cull, edge functions, 1/z plane)
 //                      over the LOD mesh of every sample, per triangle or batched (SIMD
 //                      classification first), grid {object, threads, samples, batched}
+//   BM_LodChainBuild   one mesh's LOD chain and culling clusters, grid {object}
 //   BM_Resample        sort + threshold table + N draws (the paper's resampler), grid {samples}
 //   build/mcpose_benchmarks --benchmark_filter=ScoreIteration
 #include <algorithm>
@@ -190,6 +191,17 @@ BENCHMARK(BM_TriangleSetup)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->MinTime(0.5);
+
+// Building one mesh's LOD chain and its clusters (once per mesh and process; PrepareMeshes runs
+// one mesh per raster core). Args: object index.
+void BM_LodChainBuild(benchmark::State& state) {
+  const auto& [key, obj_id] = kObjects[state.range(0)];
+  const Workload& w = GetWorkload(key, obj_id, 1);
+  int levels = 0;
+  for (auto _ : state) levels = render::LodChain::Build(w.mesh).num_levels();
+  state.SetLabel(std::to_string(obj_id) + ", " + std::to_string(levels) + " levels");
+}
+BENCHMARK(BM_LodChainBuild)->ArgNames({"object"})->DenseRange(0, 4)->Unit(benchmark::kMillisecond);
 
 // Sort + table + one draw per sample, on weights of the shape the filter produces (a few
 // heavy samples over a long light tail). Args: samples, table size.
