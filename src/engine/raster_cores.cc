@@ -112,10 +112,15 @@ void RasterCores::Score(const ScoreJob& job, const filter::ParticleSet& particle
       // whole box), render, and count inliers in that rect: the same counts as the whole box.
       const Eigen::Matrix3f R = particles.R_cam_obj[i].cast<float>();
       const Eigen::Vector3f t = particles.t_cam_obj_m[i].cast<float>();
-      render::ProjectVertices(mesh.vertices_m, R, t, params, vertices);
+      const bool simd = backend_ == RasterBackend::kSimd;
+      if (simd) {
+        render::ProjectVerticesSimd(mesh.vertices_m, R, t, params, vertices);
+      } else {
+        render::ProjectVertices(mesh.vertices_m, R, t, params, vertices);
+      }
       const int stride = box.rect.width();
       s.zbuf.resize(std::max(s.zbuf.size(), static_cast<size_t>(box.rect.area()) + render::kSimdPadFloats));
-      render::PixelRect cover = render::CoverBound(vertices, box.rect);
+      render::PixelRect cover = simd ? render::CoverBoundSimd(vertices, box.rect) : render::CoverBound(vertices, box.rect);
       if (job.inlier_mode == InlierMode::k3D) cover = box.rect;
       // Box-relative cover rect.
       const render::PixelRect rel =

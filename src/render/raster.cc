@@ -33,7 +33,12 @@ void ProjectVertices(std::span<const Eigen::Vector3f> vertices_m, const Eigen::M
 }
 
 PixelRect CoverBound(std::span<const ScreenVertex> vertices, const PixelRect& box) {
-  float min_u = INFINITY, max_u = -INFINITY, min_v = INFINITY, max_v = -INFINITY;
+  const float none[4] = {INFINITY, -INFINITY, INFINITY, -INFINITY};
+  return CoverBoundFrom(vertices, box, none);
+}
+
+PixelRect CoverBoundFrom(std::span<const ScreenVertex> vertices, const PixelRect& box, const float bounds[4]) {
+  float min_u = bounds[0], max_u = bounds[1], min_v = bounds[2], max_v = bounds[3];
   bool finite = true;
   for (const ScreenVertex& p : vertices) {
     finite = finite && std::isfinite(p.u) && std::isfinite(p.v);
@@ -41,7 +46,7 @@ PixelRect CoverBound(std::span<const ScreenVertex> vertices, const PixelRect& bo
     min_v = std::min(min_v, p.v), max_v = std::max(max_v, p.v);
   }
   if (!finite) return box;
-  if (vertices.empty() || max_u < box.x0 || min_u > box.x1 - 1 || max_v < box.y0 || min_v > box.y1 - 1)
+  if (!(min_u <= max_u) || max_u < box.x0 || min_u > box.x1 - 1 || max_v < box.y0 || min_v > box.y1 - 1)
     return PixelRect{};
   PixelRect r;
   // Rounded outwards by one pixel: vertices snapped to a sub-pixel grid stay inside.

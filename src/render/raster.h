@@ -70,6 +70,15 @@ void ProjectVertices(std::span<const Eigen::Vector3f> vertices_m, const Eigen::M
 // (empty if none). The whole box when a
 // coordinate is not finite. Every rasterizer here writes only inside this rect.
 PixelRect CoverBound(std::span<const ScreenVertex> vertices, const PixelRect& box);
+// CoverBound with the bounds {min u, max u, min v, max v} of other, finite vertices folded in
+// (CoverBound is CoverBoundFrom with {inf, -inf, inf, -inf}).
+PixelRect CoverBoundFrom(std::span<const ScreenVertex> vertices, const PixelRect& box, const float bounds[4]);
+
+// ProjectVertices and CoverBound a SIMD vector of vertices at a time (render/project_simd.cc,
+// Highway, runtime-dispatched): bit-identical results (tested on every target).
+void ProjectVerticesSimd(std::span<const Eigen::Vector3f> vertices_m, const Eigen::Matrix3f& R,
+                         const Eigen::Vector3f& t, const RasterParams& params, std::span<ScreenVertex> out);
+PixelRect CoverBoundSimd(std::span<const ScreenVertex> vertices, const PixelRect& box);
 
 // Renders the triangles into `zbuf` (params.box sized, row-major, row stride box.width()),
 // keeping the nearest depth. The caller fills zbuf with +infinity first; pixels no triangle

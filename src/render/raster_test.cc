@@ -334,3 +334,41 @@ TEST(RasterSimd, NarrowTrianglesBitIdenticalOnEveryTarget) {
 
 }  // namespace
 }  // namespace mcpose::render
+
+namespace mcpose::render {
+namespace {
+
+// The SIMD vertex stage against the scalar one on every target: random rotations, translations
+// and vertex counts (whole vectors and tails), bit-identical screen vertices and cover rects,
+// also with a vertex at the camera centre (infinite u, v: the whole box) and none at all.
+TEST(ProjectSimd, BitIdenticalToScalarOnEveryTarget) {
+  std::mt19937_64 gen(17);
+  std::uniform_real_distribution<float> coord(-0.1f, 0.1f), angle(-3.f, 3.f);
+  const RasterParams p = TestRasterParams(true);
+  for (int64_t target : hwy::SupportedAndGeneratedTargets()) {
+    hwy::SetSupportedTargetsForTest(target);
+    for (int trial = 0; trial < 60; ++trial) {
+      std::vector<Eigen::Vector3f> v(static_cast<size_t>(trial * 7 % 83));
+      for (auto& x : v) x = Eigen::Vector3f(coord(gen), coord(gen), coord(gen));
+      const Eigen::Matrix3f R =
+          Eigen::AngleAxisf(angle(gen), Eigen::Vector3f(coord(gen), coord(gen), 1.f).normalized()).toRotationMatrix();
+      Eigen::Vector3f t(coord(gen), coord(gen), 0.6f + coord(gen));
+      if (trial % 10 == 9 && !v.empty()) t = -(R * v[v.size() / 2]);  // a vertex at the camera centre
+      std::vector<ScreenVertex> a(v.size()), b(v.size());
+      ProjectVertices(v, R, t, p, a);
+      ProjectVerticesSimd(v, R, t, p, b);
+      ASSERT_EQ(0, std::memcmp(a.data(), b.data(), a.size() * sizeof(ScreenVertex)))
+          << hwy::TargetName(target) << " trial " << trial;
+      const PixelRect ra = CoverBound(a, p.box), rb = CoverBoundSimd(a, p.box);
+      EXPECT_TRUE(ra.x0 == rb.x0 && ra.y0 == rb.y0 && ra.x1 == rb.x1 && ra.y1 == rb.y1)
+          << hwy::TargetName(target) << " trial " << trial;
+      if (trial % 10 == 9 && !v.empty()) {
+        EXPECT_EQ(rb.area(), p.box.area()) << "not finite: the whole box";
+      }
+    }
+  }
+  hwy::SetSupportedTargetsForTest(0);
+}
+
+}  // namespace
+}  // namespace mcpose::render
