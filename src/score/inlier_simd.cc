@@ -30,6 +30,22 @@ HWY_INLINE void CountVector(DF df, const float* zr, const float* zo, int x, floa
   *occluded += static_cast<int64_t>(hn::CountTrue(df, hn::And(dv, hn::Le(o, hn::Sub(r, eps)))));
 }
 
+// The same counts for whole vectors of the full width, accumulated per lane (a lane's mask is
+// -1 where true) and summed once per rect.
+template <class DF, class VI>
+HWY_INLINE void AccumulateVector(DF df, const float* zr, const float* zo, int x, float eps_m, VI* drawn,
+                                 VI* inliers, VI* occluded) {
+  const hn::RebindToSigned<DF> di;
+  const auto r = hn::LoadU(df, zr + x);
+  const auto o = hn::LoadU(df, zo + x);
+  const auto eps = hn::Set(df, eps_m);
+  const auto d = hn::Ne(r, hn::Set(df, INFINITY));
+  const auto dv = hn::And(d, hn::Gt(o, hn::Zero(df)));
+  *drawn = hn::Sub(*drawn, hn::VecFromMask(di, hn::RebindMask(di, d)));
+  *inliers = hn::Sub(*inliers, hn::VecFromMask(di, hn::RebindMask(di, hn::And(dv, hn::Lt(hn::Abs(hn::Sub(r, o)), eps)))));
+  *occluded = hn::Sub(*occluded, hn::VecFromMask(di, hn::RebindMask(di, hn::And(dv, hn::Le(o, hn::Sub(r, eps))))));
+}
+
 void CountRect(const float* rendered, const float* observed, int stride, int x0, int y0, int x1, int y1,
                float eps_m, int64_t* out) {
   const hn::ScalableTag<float> df;
@@ -37,12 +53,15 @@ void CountRect(const float* rendered, const float* observed, int stride, int x0,
   const hn::CappedTag<float, 4> d4;
   const int lanes = static_cast<int>(hn::Lanes(df)), lanes8 = static_cast<int>(hn::Lanes(d8)),
             lanes4 = static_cast<int>(hn::Lanes(d4));
+  const hn::RebindToSigned<decltype(df)> di;
+  // Per-lane counts stay below 2^31: a lane sees at most one pixel in `lanes` of the rect.
+  auto v_drawn = hn::Zero(di), v_inliers = hn::Zero(di), v_occluded = hn::Zero(di);
   int64_t drawn = 0, inliers = 0, occluded = 0;
   for (int y = y0; y < y1; ++y) {
     const float* zr = rendered + static_cast<size_t>(y) * stride;
     const float* zo = observed + static_cast<size_t>(y) * stride;
     int x = x0;
-    for (; x + lanes <= x1; x += lanes) CountVector(df, zr, zo, x, eps_m, &drawn, &inliers, &occluded);
+    for (; x + lanes <= x1; x += lanes) AccumulateVector(df, zr, zo, x, eps_m, &v_drawn, &v_inliers, &v_occluded);
     // The row's tail in narrower whole vectors (never past x1), then one pixel at a time.
     if (lanes8 < lanes && x + lanes8 <= x1) CountVector(d8, zr, zo, x, eps_m, &drawn, &inliers, &occluded), x += lanes8;
     if (lanes4 < lanes8 && x + lanes4 <= x1) CountVector(d4, zr, zo, x, eps_m, &drawn, &inliers, &occluded), x += lanes4;
@@ -53,6 +72,9 @@ void CountRect(const float* rendered, const float* observed, int stride, int x0,
       occluded += d & valid & (zo[x] <= zr[x] - eps_m);
     }
   }
+  drawn += hn::GetLane(hn::SumOfLanes(di, v_drawn));
+  inliers += hn::GetLane(hn::SumOfLanes(di, v_inliers));
+  occluded += hn::GetLane(hn::SumOfLanes(di, v_occluded));
   out[0] = drawn, out[1] = inliers, out[2] = occluded;
 }
 
