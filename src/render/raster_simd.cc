@@ -1,6 +1,7 @@
-// The SIMD row kernel of the fixed-point raster core (see raster_fixed.h): N pixels of a row
-// at a time with Highway, compiled for every target Highway knows here and dispatched at run
-// time. FillTriangleScalar (raster_fixed.cc) is its reference.
+// The SIMD row kernel of the fixed-point raster core (see raster_fixed.h): a vector of pixels
+// at a time, as blocks of rows for triangles at most one vector wide and row by row for wider
+// ones, with Highway, compiled for every target Highway knows here and dispatched at run time.
+// FillTriangleScalar (raster_fixed.cc) is its reference.
 #include <algorithm>
 #include <cstdint>
 #include <string>
@@ -91,7 +92,7 @@ HWY_INLINE void StoreBlock(D d, hn::Vec<D> v, float* const* rows) {
   }
 }
 
-// Triangles at most kW pixels wide, several rows per vector: lane i is pixel
+// Triangles at most kW pixels wide, lanes / kW rows per vector: lane i is pixel
 // (x_lo + i % kW, y + i / kW). Same integer coverage and float operations per pixel as the
 // scalar kernel. Rows past y_hi are masked out; their pointers alias row y_hi, so nothing
 // outside the triangle's rows (and the kSimdPadFloats slack after a row) is touched.
@@ -100,7 +101,7 @@ HWY_INLINE int64_t FillBlocks(DF df, const FixedTriangle& t, float* zbuf, int st
   const hn::RebindToSigned<DF> di;
   constexpr size_t kLanes = hn::MaxLanes(DF());
   constexpr int32_t kRows = static_cast<int32_t>(kLanes / kW);
-  static_assert(kRows > 1 && kRows * kW == kLanes);
+  static_assert(kRows >= 1 && kRows * kW == kLanes);
   const auto lane = hn::Iota(di, 0);
   const auto lx = hn::And(lane, hn::Set(di, static_cast<int32_t>(kW - 1)));
   const auto ly = hn::ShiftRight<hwy::CeilLog2(kW)>(lane);
@@ -137,23 +138,25 @@ HWY_INLINE int64_t FillBlocks(DF df, const FixedTriangle& t, float* zbuf, int st
 }
 #endif  // HWY_TARGET != HWY_SCALAR
 
-// Narrow triangles take several rows per vector where the vector holds at least two rows of
-// 4 or 8 pixels, and otherwise narrower vectors: a row of 8 pixels or fewer costs one 8-lane
-// vector instead of a mostly empty 16-lane one. Bit-identical at every width.
+// Triangles at most one vector wide take FillBlocks: several rows per vector where the vector
+// holds at least two rows of 4 or 8 pixels (AVX2: 4 x 2; AVX-512: 4 x 4, 8 x 2), one row per
+// vector otherwise, with the span mask hoisted out of the row loop. Wider ones take FillRows.
+// Bit-identical at every width.
 int64_t FillTriangleRows(const FixedTriangle& t, float* zbuf, int stride) {
-  const int32_t span = t.x_hi - t.x_lo + 1;
   const hn::ScalableTag<float> df;
 #if HWY_TARGET != HWY_SCALAR
+  const int32_t span = t.x_hi - t.x_lo + 1;
   constexpr size_t kLanes = hn::MaxLanes(df);
-  if constexpr (kLanes >= 8 && kLanes <= 16) {
-    if (span <= 4) return FillBlocks<4>(df, t, zbuf, stride);
+  if constexpr (kLanes >= 4 && kLanes <= 16) {
+    if constexpr (kLanes >= 8) {
+      if (span <= 4) return FillBlocks<4>(df, t, zbuf, stride);
+    }
     if constexpr (kLanes == 16) {
       if (span <= 8) return FillBlocks<8>(df, t, zbuf, stride);
     }
+    if (span <= static_cast<int32_t>(kLanes)) return FillBlocks<kLanes>(df, t, zbuf, stride);
   }
 #endif
-  if (span <= 4) return FillRows(hn::CappedTag<float, 4>(), t, zbuf, stride);
-  if (span <= 8) return FillRows(hn::CappedTag<float, 8>(), t, zbuf, stride);
   return FillRows(df, t, zbuf, stride);
 }
 

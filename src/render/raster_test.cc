@@ -287,8 +287,8 @@ TEST(RasterSimd, BitIdenticalToScalarRowsOnEveryTarget) {
 namespace mcpose::render {
 namespace {
 
-// Narrow triangles (1 to 20 pixels wide, 1 to 12 rows) take the multi-row blocks and the 4-
-// and 8-lane row kernels: bit-identical to the scalar rows on every target, at every sub-pixel
+// Narrow triangles (1 to 20 pixels wide, 1 to 12 rows) take the blocks of rows (4, 8 and 16
+// pixels wide) and, past the vector width, the row kernel: bit-identical to the scalar rows on every target, at every sub-pixel
 // offset tried, over a z-buffer of random depths (so the depth test decides), and at the box's
 // last rows and columns (where a block's rows past the triangle alias its last row).
 TEST(RasterSimd, NarrowTrianglesBitIdenticalOnEveryTarget) {
