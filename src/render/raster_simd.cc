@@ -136,6 +136,50 @@ HWY_INLINE int64_t FillBlocks(DF df, const FixedTriangle& t, float* zbuf, int st
   }
   return covered;
 }
+
+// Triangles at most kVecs vectors wide (kVecs > 1), a row at a time: the row's kVecs vectors
+// unrolled, each with its span mask hoisted out of the row loop, no branches. The same lanes,
+// integer tests and float operations as FillRows and the scalar kernel.
+template <int kVecs, class DF>
+HWY_INLINE int64_t FillWideRows(DF df, const FixedTriangle& t, float* zbuf, int stride) {
+  const hn::RebindToSigned<DF> di;
+  constexpr int32_t kLanes = static_cast<int32_t>(hn::MaxLanes(DF()));
+  const auto iota = hn::Iota(di, 0);
+  decltype(hn::Zero(di)) w[3], lane_step[3], vec_step[3];
+  for (int k = 0; k < 3; ++k) {
+    lane_step[k] = hn::Mul(iota, hn::Set(di, static_cast<int32_t>(t.step_x[k])));
+    vec_step[k] = hn::Set(di, static_cast<int32_t>(t.step_x[k] * kLanes));
+    w[k] = hn::Add(hn::Set(di, static_cast<int32_t>(t.w_row[k])), lane_step[k]);
+  }
+  const int32_t span = t.x_hi - t.x_lo + 1;
+  decltype(hn::FirstN(di, 0)) in_span[kVecs];
+  decltype(hn::Zero(df)) ax[kVecs];
+  const auto fA = hn::Set(df, t.A);
+  for (int j = 0; j < kVecs; ++j) {
+    in_span[j] = hn::FirstN(di, static_cast<size_t>(std::max(0, span - j * kLanes)));
+    ax[j] = hn::Mul(fA, hn::ConvertTo(df, hn::Add(iota, hn::Set(di, t.x_lo + j * kLanes))));
+  }
+  const auto one = hn::Set(df, 1.0f);
+  const auto minus_one = hn::Set(di, -1);  // E >= 0  <=>  E > -1 (integers)
+  int64_t covered = 0;
+  for (int32_t y = t.y_lo; y <= t.y_hi; ++y) {
+    float* row = zbuf + static_cast<size_t>(y) * stride + t.x_lo;
+    // row_c as the scalar kernel rounds it: B y + C in float, then A x + row_c.
+    const auto row_c = hn::Set(df, t.B * static_cast<float>(y) + t.C);
+    auto e0 = w[0], e1 = w[1], e2 = w[2];
+    for (int j = 0; j < kVecs; ++j) {
+      const auto inside = hn::And(in_span[j], hn::Gt(hn::Or(hn::Or(e0, e1), e2), minus_one));
+      covered += static_cast<int64_t>(hn::CountTrue(di, inside));
+      const auto z = hn::Div(one, hn::Add(ax[j], row_c));
+      const auto dst = hn::LoadU(df, row + j * kLanes);
+      const auto keep = hn::And(hn::RebindMask(df, inside), hn::Lt(z, dst));
+      hn::StoreU(hn::IfThenElse(keep, z, dst), df, row + j * kLanes);
+      e0 = hn::Add(e0, vec_step[0]), e1 = hn::Add(e1, vec_step[1]), e2 = hn::Add(e2, vec_step[2]);
+    }
+    for (int k = 0; k < 3; ++k) w[k] = hn::Add(w[k], hn::Set(di, static_cast<int32_t>(t.step_y[k])));
+  }
+  return covered;
+}
 #endif  // HWY_TARGET != HWY_SCALAR
 
 // Triangles at most one vector wide take FillBlocks: several rows per vector where the vector
@@ -155,6 +199,7 @@ int64_t FillTriangleRows(const FixedTriangle& t, float* zbuf, int stride) {
       if (span <= 8) return FillBlocks<8>(df, t, zbuf, stride);
     }
     if (span <= static_cast<int32_t>(kLanes)) return FillBlocks<kLanes>(df, t, zbuf, stride);
+    if (span <= static_cast<int32_t>(2 * kLanes)) return FillWideRows<2>(df, t, zbuf, stride);
   }
 #endif
   return FillRows(df, t, zbuf, stride);
