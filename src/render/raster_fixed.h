@@ -72,8 +72,9 @@ TriangleSetup SetupSnappedTriangle(const int32_t X[3], const int32_t Y[3], const
 //                       vectors are loaded and stored back; pixels past a row's end are
 //                       written back unchanged). Triangles at most one vector wide take
 //                       blocks of rows (AVX2: 4 x 2 or 8 x 1 pixels per vector; AVX-512:
-//                       4 x 4, 8 x 2 or 16 x 1); wider ones a row at a time, several vectors
-//                       per row. Bit-identical to FillTriangleScalar (same
+//                       4 x 4, 8 x 2 or 16 x 1); up to 4 vectors wide, a row at a time with
+//                       its vectors unrolled; wider ones a row at a time in a loop over
+//                       vectors. Bit-identical to FillTriangleScalar (same
 //                       integer coverage, same float operations, no FMA contraction).
 int64_t FillTriangleScalar(const FixedTriangle& t, float* zbuf, int stride);
 int64_t FillTriangleSimd(const FixedTriangle& t, float* zbuf, int stride);

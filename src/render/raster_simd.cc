@@ -137,7 +137,7 @@ HWY_INLINE int64_t FillBlocks(DF df, const FixedTriangle& t, float* zbuf, int st
   return covered;
 }
 
-// Triangles at most kVecs vectors wide (kVecs > 1), a row at a time: the row's kVecs vectors
+// Triangles at most kVecs vectors wide (kVecs 2 to 4), a row at a time: the row's kVecs vectors
 // unrolled, each with its span mask hoisted out of the row loop, no branches. The same lanes,
 // integer tests and float operations as FillRows and the scalar kernel.
 template <int kVecs, class DF>
@@ -184,7 +184,8 @@ HWY_INLINE int64_t FillWideRows(DF df, const FixedTriangle& t, float* zbuf, int 
 
 // Triangles at most one vector wide take FillBlocks: several rows per vector where the vector
 // holds at least two rows of 4 or 8 pixels (AVX2: 4 x 2; AVX-512: 4 x 4, 8 x 2), one row per
-// vector otherwise, with the span mask hoisted out of the row loop. Wider ones take FillRows.
+// vector otherwise, with the span mask hoisted out of the row loop. Up to 4 vectors wide,
+// FillWideRows; wider ones FillRows.
 // Bit-identical at every width.
 int64_t FillTriangleRows(const FixedTriangle& t, float* zbuf, int stride) {
   const hn::ScalableTag<float> df;
@@ -200,6 +201,8 @@ int64_t FillTriangleRows(const FixedTriangle& t, float* zbuf, int stride) {
     }
     if (span <= static_cast<int32_t>(kLanes)) return FillBlocks<kLanes>(df, t, zbuf, stride);
     if (span <= static_cast<int32_t>(2 * kLanes)) return FillWideRows<2>(df, t, zbuf, stride);
+    if (span <= static_cast<int32_t>(3 * kLanes)) return FillWideRows<3>(df, t, zbuf, stride);
+    if (span <= static_cast<int32_t>(4 * kLanes)) return FillWideRows<4>(df, t, zbuf, stride);
   }
 #endif
   return FillRows(df, t, zbuf, stride);
