@@ -121,7 +121,7 @@ size_t ClassifyTrianglesImpl(const int32_t* packed, const uint32_t* tri, size_t 
     outside_n += static_cast<int64_t>(hn::CountTrue(di, outside));
     between_n += static_cast<int64_t>(hn::CountTrue(di, between));
     // Compress in a register, then a plain whole-vector store (the buffer has the slack):
-    // CompressStore's masked-store form (vpcompressd to memory) is microcoded and slow on
+    // CompressStore's masked-store form (vpcompressd to memory) is slow on
     // AMD Zen 4, where it was 28 % of this function on the tomato can.
     const auto keep = hn::AndNot(decided, valid);
     hn::StoreU(hn::Compress(t, keep), di, reinterpret_cast<int32_t*>(survivors) + kept);
