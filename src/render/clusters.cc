@@ -46,6 +46,10 @@ ClusterSet ClusterSet::Build(const Mesh& mesh) {
                                            meshlet_vertices[ml.vertex_offset + lt[1]],
                                            meshlet_vertices[ml.vertex_offset + lt[2]]};
       out.triangles.push_back(tri);
+      for (uint32_t v : tri) {
+        c.box_lo = k == 0 && v == tri[0] ? mesh.vertices_m[v] : c.box_lo.cwiseMin(mesh.vertices_m[v]);
+        c.box_hi = k == 0 && v == tri[0] ? mesh.vertices_m[v] : c.box_hi.cwiseMax(mesh.vertices_m[v]);
+      }
       const Eigen::Vector3d p0 = mesh.vertices_m[tri[0]].cast<double>(), p1 = mesh.vertices_m[tri[1]].cast<double>(),
                             p2 = mesh.vertices_m[tri[2]].cast<double>();
       const Eigen::Vector3d normal = (p1 - p0).cross(p2 - p0);
@@ -86,6 +90,19 @@ ClusterCull CullCluster(const Cluster& c, const Eigen::Matrix3f& R, const Eigen:
   // One pixel of slack for rounding and sub-pixel snapping; pixel centres are at integers.
   const PixelRect& box = params.box;
   if (u1 < box.x0 - 1.0f || u0 > box.x1 || v1 < box.y0 - 1.0f || v0 > box.y1) return ClusterCull::kOutsideBox;
+  // Tighter, for clusters the sphere keeps: the bounds of its vertices' box. With its 8 corners
+  // in front of the near plane, the box projects into the convex hull of their projections.
+  float cu0 = INFINITY, cu1 = -INFINITY, cv0 = INFINITY, cv1 = -INFINITY;
+  for (int k = 0; k < 8; ++k) {
+    const Eigen::Vector3f corner((k & 1) ? c.box_hi.x() : c.box_lo.x(), (k & 2) ? c.box_hi.y() : c.box_lo.y(),
+                                 (k & 4) ? c.box_hi.z() : c.box_lo.z());
+    const Eigen::Vector3f q = R * corner + t;
+    if (!(q.z() > params.z_near_m)) return ClusterCull::kKeep;
+    const float iz = 1.0f / q.z();
+    const float cu = params.fx * q.x() * iz + params.cx, cv = params.fy * q.y() * iz + params.cy;
+    cu0 = std::min(cu0, cu), cu1 = std::max(cu1, cu), cv0 = std::min(cv0, cv), cv1 = std::max(cv1, cv);
+  }
+  if (cu1 < box.x0 - 1.0f || cu0 > box.x1 || cv1 < box.y0 - 1.0f || cv0 > box.y1) return ClusterCull::kOutsideBox;
   return ClusterCull::kKeep;
 }
 

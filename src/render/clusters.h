@@ -26,6 +26,7 @@ struct Cluster {
   Eigen::Vector3f cone_apex = Eigen::Vector3f::Zero();  // normal cone (meshoptimizer's)
   Eigen::Vector3f cone_axis = Eigen::Vector3f::Zero();
   float cone_cutoff = 1;  // cos of the half angle; >= 1 means no usable cone
+  Eigen::Vector3f box_lo = Eigen::Vector3f::Zero(), box_hi = Eigen::Vector3f::Zero();  // its vertices' bounds
 };
 
 struct ClusterSet {
