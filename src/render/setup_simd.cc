@@ -141,12 +141,13 @@ void SetupSurvivorsImpl(const int32_t* packed, const ScreenVertex* vertices, con
                         const uint32_t* survivors, size_t count, int32_t box_w, int32_t box_h, bool cull_backfaces,
                         FixedTriangle* out, uint8_t* ready) {
   const hn::ScalableTag<double> dd;
-  const hn::RebindToSigned<decltype(dd)> dl;
   const hn::Rebind<float, decltype(dd)> df;
   const size_t lanes = hn::Lanes(dd);
   constexpr size_t kMax = HWY_MAX_BYTES / sizeof(double);
   HWY_ALIGN double x[3][kMax], y[3][kMax], z[3][kMax], bad[kMax];
-  HWY_ALIGN int64_t o_w[3][kMax], o_sx[3][kMax], o_sy[3][kMax], o_lo[2][kMax], o_hi[2][kMax], o_ok[kMax], o_fit[kMax];
+  // Staged as doubles (every value is an integer below 2^53) and converted one by one when
+  // written out: AVX2 has no vector double -> int64 conversion (Highway emulates it).
+  HWY_ALIGN double o_w[3][kMax], o_sx[3][kMax], o_sy[3][kMax], o_lo[2][kMax], o_hi[2][kMax], o_ok[kMax], o_fit[kMax];
   HWY_ALIGN float o_abc[3][kMax];
   const auto zero = hn::Zero(dd), one = hn::Set(dd, 1.0), sub = hn::Set(dd, static_cast<double>(kSubpixelOne));
   const auto x_last = hn::Set(dd, box_w - 1), y_last = hn::Set(dd, box_h - 1);
@@ -203,9 +204,9 @@ void SetupSurvivorsImpl(const int32_t* packed, const ScreenVertex* vertices, con
       const auto top_left = hn::Or(hn::And(hn::Eq(dy, zero), hn::Lt(dx, zero)), hn::Gt(dy, zero));
       const auto w = hn::Sub(hn::Sub(hn::Mul(dx, hn::Sub(py0, P0y[k])), hn::Mul(dy, hn::Sub(px0, P0x[k]))),
                              hn::IfThenZeroElse(top_left, one));
-      hn::Store(hn::ConvertTo(dl, w), dl, o_w[k]);
-      hn::Store(hn::ConvertTo(dl, hn::Mul(hn::Neg(dy), sub)), dl, o_sx[k]);
-      hn::Store(hn::ConvertTo(dl, hn::Mul(dx, sub)), dl, o_sy[k]);
+      hn::Store(w, dd, o_w[k]);
+      hn::Store(hn::Mul(hn::Neg(dy), sub), dd, o_sx[k]);
+      hn::Store(hn::Mul(dx, sub), dd, o_sy[k]);
       const auto wk = hn::Mul(iz[k], inv_area);
       A = hn::Add(A, hn::Mul(hn::Mul(hn::Neg(dy), sub), wk));
       B = hn::Add(B, hn::Mul(hn::Mul(dx, sub), wk));
@@ -214,17 +215,20 @@ void SetupSurvivorsImpl(const int32_t* packed, const ScreenVertex* vertices, con
     hn::Store(hn::DemoteTo(df, A), df, o_abc[0]);
     hn::Store(hn::DemoteTo(df, B), df, o_abc[1]);
     hn::Store(hn::DemoteTo(df, C), df, o_abc[2]);
-    hn::Store(hn::ConvertTo(dl, x_lo), dl, o_lo[0]), hn::Store(hn::ConvertTo(dl, y_lo), dl, o_lo[1]);
-    hn::Store(hn::ConvertTo(dl, x_hi), dl, o_hi[0]), hn::Store(hn::ConvertTo(dl, y_hi), dl, o_hi[1]);
-    hn::Store(hn::ConvertTo(dl, hn::IfThenElseZero(ok, one)), dl, o_ok);
-    hn::Store(hn::ConvertTo(dl, hn::IfThenElseZero(fits, one)), dl, o_fit);
+    hn::Store(x_lo, dd, o_lo[0]), hn::Store(y_lo, dd, o_lo[1]);
+    hn::Store(x_hi, dd, o_hi[0]), hn::Store(y_hi, dd, o_hi[1]);
+    hn::Store(hn::IfThenElseZero(ok, one), dd, o_ok);
+    hn::Store(hn::IfThenElseZero(fits, one), dd, o_fit);
     for (size_t j = 0; j < lanes && first + j < count; ++j) {
       ready[first + j] = o_ok[j] != 0;
       if (!o_ok[j]) continue;
       FixedTriangle& ft = out[first + j];
       ft.x_lo = static_cast<int32_t>(o_lo[0][j]), ft.y_lo = static_cast<int32_t>(o_lo[1][j]);
       ft.x_hi = static_cast<int32_t>(o_hi[0][j]), ft.y_hi = static_cast<int32_t>(o_hi[1][j]);
-      for (int k = 0; k < 3; ++k) ft.w_row[k] = o_w[k][j], ft.step_x[k] = o_sx[k][j], ft.step_y[k] = o_sy[k][j];
+      for (int k = 0; k < 3; ++k) {
+        ft.w_row[k] = static_cast<int64_t>(o_w[k][j]);
+        ft.step_x[k] = static_cast<int64_t>(o_sx[k][j]), ft.step_y[k] = static_cast<int64_t>(o_sy[k][j]);
+      }
       ft.A = o_abc[0][j], ft.B = o_abc[1][j], ft.C = o_abc[2][j];
       ft.simd_fits = o_fit[j] != 0;
     }
