@@ -281,16 +281,11 @@ TEST(RasterSimd, BitIdenticalToScalarRowsOnEveryTarget) {
   hwy::SetSupportedTargetsForTest(0);
 }
 
-}  // namespace
-}  // namespace mcpose::render
-
-namespace mcpose::render {
-namespace {
-
 // Narrow triangles (1 to 70 pixels wide, 1 to 12 rows) take the blocks of rows (4, 8 and 16
-// pixels wide), the unrolled rows of 2 to 4 vectors and, past those, the row kernel: bit-identical to the scalar rows on every target, at every sub-pixel
-// offset tried, over a z-buffer of random depths (so the depth test decides), and at the box's
-// last rows and columns (where a block's rows past the triangle alias its last row).
+// pixels wide), the unrolled rows of 2 to 4 vectors and, past those, the row kernel:
+// bit-identical to the scalar rows on every target, at every sub-pixel offset tried, over a
+// z-buffer of random depths (so the depth test decides), and at the box's last rows and columns
+// (where a block's rows past the triangle alias its last row).
 TEST(RasterSimd, NarrowTrianglesBitIdenticalOnEveryTarget) {
   const RasterParams p = TestRasterParams(true);
   const float bw = static_cast<float>(p.box.width()), bh = static_cast<float>(p.box.height());
@@ -331,12 +326,6 @@ TEST(RasterSimd, NarrowTrianglesBitIdenticalOnEveryTarget) {
   }
   hwy::SetSupportedTargetsForTest(0);
 }
-
-}  // namespace
-}  // namespace mcpose::render
-
-namespace mcpose::render {
-namespace {
 
 // The SIMD vertex stage against the scalar one on every target: random rotations, translations
 // and vertex counts (whole vectors and tails), bit-identical screen vertices and cover rects,
