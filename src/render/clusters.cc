@@ -28,6 +28,12 @@ ClusterSet ClusterSet::Build(const Mesh& mesh) {
         &meshlet_vertices[ml.vertex_offset], &meshlet_triangles[ml.triangle_offset], ml.triangle_count, positions,
         mesh.vertices_m.size(), sizeof(Eigen::Vector3f));
     Cluster c;
+    // The bounds of the cluster's vertices (the meshlet's vertex list: those its triangles use).
+    c.box_lo = c.box_hi = mesh.vertices_m[meshlet_vertices[ml.vertex_offset]];
+    for (unsigned int k = 1; k < ml.vertex_count; ++k) {
+      const Eigen::Vector3f& v = mesh.vertices_m[meshlet_vertices[ml.vertex_offset + k]];
+      c.box_lo = c.box_lo.cwiseMin(v), c.box_hi = c.box_hi.cwiseMax(v);
+    }
     c.first = static_cast<uint32_t>(out.triangles.size());
     c.count = ml.triangle_count;
     c.center = Eigen::Vector3f(b.center[0], b.center[1], b.center[2]);
@@ -46,10 +52,6 @@ ClusterSet ClusterSet::Build(const Mesh& mesh) {
                                            meshlet_vertices[ml.vertex_offset + lt[1]],
                                            meshlet_vertices[ml.vertex_offset + lt[2]]};
       out.triangles.push_back(tri);
-      for (uint32_t v : tri) {
-        c.box_lo = k == 0 && v == tri[0] ? mesh.vertices_m[v] : c.box_lo.cwiseMin(mesh.vertices_m[v]);
-        c.box_hi = k == 0 && v == tri[0] ? mesh.vertices_m[v] : c.box_hi.cwiseMax(mesh.vertices_m[v]);
-      }
       const Eigen::Vector3d p0 = mesh.vertices_m[tri[0]].cast<double>(), p1 = mesh.vertices_m[tri[1]].cast<double>(),
                             p2 = mesh.vertices_m[tri[2]].cast<double>();
       const Eigen::Vector3d normal = (p1 - p0).cross(p2 - p0);

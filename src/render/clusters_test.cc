@@ -3,6 +3,7 @@
 #include "render/clusters.h"
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 
 #include <Eigen/Geometry>
@@ -51,8 +52,15 @@ TEST(Clusters, EveryTriangleInExactlyOneCluster) {
     EXPECT_GE(c.count, 1u);
     EXPECT_LE(c.count, ClusterSet::kMaxTriangles);
     next += c.count;
-    for (uint32_t k = c.first; k < c.first + c.count; ++k)
-      for (uint32_t v : cs.triangles[k]) EXPECT_LE((m.vertices_m[v] - c.center).norm(), c.radius * 1.0001f + 1e-7f);
+    Eigen::Vector3f lo = Eigen::Vector3f::Constant(INFINITY), hi = -lo;
+    for (uint32_t k = c.first; k < c.first + c.count; ++k) {
+      for (uint32_t v : cs.triangles[k]) {
+        EXPECT_LE((m.vertices_m[v] - c.center).norm(), c.radius * 1.0001f + 1e-7f);
+        lo = lo.cwiseMin(m.vertices_m[v]), hi = hi.cwiseMax(m.vertices_m[v]);
+      }
+    }
+    EXPECT_EQ(c.box_lo, lo);  // exactly the bounds of its triangles' vertices
+    EXPECT_EQ(c.box_hi, hi);
   }
   EXPECT_EQ(next, m.triangles.size());
 }
