@@ -80,8 +80,8 @@ struct EstimatorOptions {
 
   // --- Engine ---------------------------------------------------------------------------
   // The default is the fast engine; kScalar with lod_error_px = 0, pixel_stride = 1 and
-  // max_grid_pixels = 0 is the reference on every pixel (the test oracle). On the 108 real instances both give the same accuracy within the seed-to-seed
-  // spread (README, accuracy).
+  // max_grid_pixels = 0 is the reference on every pixel (the test oracle). On the 108 real
+  // instances both give the same accuracy within the seed-to-seed spread (README, accuracy).
   RasterBackend backend = RasterBackend::kSimd;
   // Level of detail: each box renders the coarsest meshoptimizer simplification whose
   // geometric error, projected at the box's initial depth, is at most lod_error_px pixels
@@ -98,8 +98,9 @@ struct EstimatorOptions {
   bool batched_setup = true;
   // Pixel stride: score each box on every pixel_stride-th pixel in x and y (the same rays,
   // pixel_stride^2 times fewer; engine/raster_cores.h); the LOD budget is in these raster
-  // pixels. 1 (with max_grid_pixels = 0) = every pixel, as the paper. 2 halves the iteration time with the same accuracy
-  // on the 108 real instances within the seed-to-seed spread (README, accuracy).
+  // pixels. 1 (with max_grid_pixels = 0) = every pixel, as the paper. 2 halves the iteration
+  // time with the same accuracy on the 108 real instances within the seed-to-seed spread
+  // (README, accuracy).
   int pixel_stride = 2;
   // Grid budget: a box with more than this many grid pixels at pixel_stride is sampled more
   // coarsely, at the smallest stride that fits (a resolution level of detail); 0 = no budget.

@@ -94,6 +94,8 @@ void RasterCores::Score(const ScoreJob& job, const filter::ParticleSet& particle
     s.vertices.resize(max_vertices);
     s.stats = render::RasterStats{};
   }
+  // The simd engine: the vertex stage, rows and inlier count of the Highway kernels.
+  const bool simd = backend_ == RasterBackend::kSimd;
   pool_.ParallelFor(static_cast<int64_t>(particles.size()), [&](int64_t begin, int64_t end, int worker) {
     Scratch& s = scratch_[worker];
     for (int64_t i = begin; i < end; ++i) {
@@ -112,7 +114,6 @@ void RasterCores::Score(const ScoreJob& job, const filter::ParticleSet& particle
       // whole box), render, and count inliers in that rect: the same counts as the whole box.
       const Eigen::Matrix3f R = particles.R_cam_obj[i].cast<float>();
       const Eigen::Vector3f t = particles.t_cam_obj_m[i].cast<float>();
-      const bool simd = backend_ == RasterBackend::kSimd;
       if (simd) {
         render::ProjectVerticesSimd(mesh.vertices_m, R, t, params, vertices);
       } else {
@@ -120,7 +121,8 @@ void RasterCores::Score(const ScoreJob& job, const filter::ParticleSet& particle
       }
       const int stride = box.rect.width();
       s.zbuf.resize(std::max(s.zbuf.size(), static_cast<size_t>(box.rect.area()) + render::kSimdPadFloats));
-      render::PixelRect cover = simd ? render::CoverBoundSimd(vertices, box.rect) : render::CoverBound(vertices, box.rect);
+      render::PixelRect cover =
+          simd ? render::CoverBoundSimd(vertices, box.rect) : render::CoverBound(vertices, box.rect);
       if (job.inlier_mode == InlierMode::k3D) cover = box.rect;
       // Box-relative cover rect.
       const render::PixelRect rel =
@@ -136,7 +138,7 @@ void RasterCores::Score(const ScoreJob& job, const filter::ParticleSet& particle
         case RasterBackend::kFixedPoint:
         case RasterBackend::kSimd: {
           const render::RowKernel rows =
-              backend_ == RasterBackend::kSimd ? render::RowKernel::kSimd : render::RowKernel::kScalar;
+              simd ? render::RowKernel::kSimd : render::RowKernel::kScalar;
           const render::ClusterSet* clusters = job.box_clusters.empty() ? nullptr : job.box_clusters[particles.box[i]];
           render::SnappedVertices* snapped = nullptr;
           if (job.batched_setup) {
@@ -173,7 +175,7 @@ void RasterCores::Score(const ScoreJob& job, const filter::ParticleSet& particle
 
       // Compare with the observed depth of the box.
       if (job.inlier_mode == InlierMode::k1D) {
-        counts[i] = backend_ == RasterBackend::kSimd
+        counts[i] = simd
                         ? score::CountInliers1DInRectSimd(s.zbuf.data(), box.observed.data(), stride, rel,
                                                           box.n_observed, job.eps_m)
                         : score::CountInliers1DInRect(s.zbuf.data(), box.observed.data(), stride, rel,

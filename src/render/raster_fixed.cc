@@ -133,7 +133,7 @@ TriangleSetup SetupBatchedTriangle(std::span<const ScreenVertex> vertices, const
   for (int k = 0; k < 3; ++k) {
     const int32_t p = packed[tri[k]];
     if (p == kSnappedDeferred) return SetupFixedTriangle(vertices[tri[0]], vertices[tri[1]], vertices[tri[2]], params, out);
-    X[k] = p >> 16, Y[k] = static_cast<int16_t>(p & 0xffff), z[k] = vertices[tri[k]].z;
+    X[k] = SnappedX(p), Y[k] = SnappedY(p), z[k] = vertices[tri[k]].z;
   }
   return SetupSnappedTriangle(X, Y, z, params, out);
 }

@@ -104,6 +104,9 @@ inline int32_t SnapVertexScalar(const ScreenVertex& v, float ox, float oy, float
   const auto Y = static_cast<uint32_t>(std::lrint(dv * kSubpixelOne));
   return static_cast<int32_t>((X << 16) | (Y & 0xffffu));
 }
+// The sub-pixel coordinates of a packed vertex (not kSnappedDeferred).
+inline int32_t SnappedX(int32_t packed) { return packed >> 16; }
+inline int32_t SnappedY(int32_t packed) { return static_cast<int16_t>(packed & 0xffff); }
 // Decides every triangle whose fate the snapped integers make certain: back-facing, outside
 // the box, between pixel centres. Each gets the reason SetupFixedTriangle gives it (tested),
 // counted in *stats (not `triangles`). Writes the indices into `triangles` of the rest

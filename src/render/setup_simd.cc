@@ -161,7 +161,7 @@ void SetupSurvivorsImpl(const int32_t* packed, const ScreenVertex* vertices, con
       for (int k = 0; k < 3; ++k) {
         const int32_t p = packed[t[k]];
         bad[j] = p == kSnappedDeferred ? 1.0 : bad[j];
-        x[k][j] = static_cast<double>(p >> 16), y[k][j] = static_cast<double>(static_cast<int16_t>(p & 0xffff));
+        x[k][j] = static_cast<double>(SnappedX(p)), y[k][j] = static_cast<double>(SnappedY(p));
         z[k][j] = static_cast<double>(vertices[t[k]].z);
       }
     }
