@@ -16,34 +16,41 @@ namespace mcpose::score {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-// Counts the pixels [x, x + lanes of DF) of one row: drawn, inliers, occluded.
+// The tests of the pixels [x, x + lanes of DF) of one row: drawn, inlier, occluded.
 template <class DF>
-HWY_INLINE void CountVector(DF df, const float* zr, const float* zo, int x, float eps_m, int64_t* drawn,
-                            int64_t* inliers, int64_t* occluded) {
+struct PixelMasks {
+  decltype(hn::FirstN(DF(), 0)) drawn, inlier, occluded;
+};
+template <class DF>
+HWY_INLINE PixelMasks<DF> TestVector(DF df, const float* zr, const float* zo, int x, float eps_m) {
   const auto r = hn::LoadU(df, zr + x);
   const auto o = hn::LoadU(df, zo + x);
   const auto eps = hn::Set(df, eps_m);
   const auto d = hn::Ne(r, hn::Set(df, INFINITY));
   const auto dv = hn::And(d, hn::Gt(o, hn::Zero(df)));
-  *drawn += static_cast<int64_t>(hn::CountTrue(df, d));
-  *inliers += static_cast<int64_t>(hn::CountTrue(df, hn::And(dv, hn::Lt(hn::Abs(hn::Sub(r, o)), eps))));
-  *occluded += static_cast<int64_t>(hn::CountTrue(df, hn::And(dv, hn::Le(o, hn::Sub(r, eps)))));
+  return {d, hn::And(dv, hn::Lt(hn::Abs(hn::Sub(r, o)), eps)), hn::And(dv, hn::Le(o, hn::Sub(r, eps)))};
 }
 
-// The same counts for whole vectors of the full width, accumulated per lane (a lane's mask is
-// -1 where true) and summed once per rect.
+// Counts them (the row tails).
+template <class DF>
+HWY_INLINE void CountVector(DF df, const float* zr, const float* zo, int x, float eps_m, int64_t* drawn,
+                            int64_t* inliers, int64_t* occluded) {
+  const PixelMasks<DF> m = TestVector(df, zr, zo, x, eps_m);
+  *drawn += static_cast<int64_t>(hn::CountTrue(df, m.drawn));
+  *inliers += static_cast<int64_t>(hn::CountTrue(df, m.inlier));
+  *occluded += static_cast<int64_t>(hn::CountTrue(df, m.occluded));
+}
+
+// Whole vectors of the full width: per-lane counts (a lane's mask is -1 where true), summed
+// once per rect.
 template <class DF, class VI>
 HWY_INLINE void AccumulateVector(DF df, const float* zr, const float* zo, int x, float eps_m, VI* drawn,
                                  VI* inliers, VI* occluded) {
   const hn::RebindToSigned<DF> di;
-  const auto r = hn::LoadU(df, zr + x);
-  const auto o = hn::LoadU(df, zo + x);
-  const auto eps = hn::Set(df, eps_m);
-  const auto d = hn::Ne(r, hn::Set(df, INFINITY));
-  const auto dv = hn::And(d, hn::Gt(o, hn::Zero(df)));
-  *drawn = hn::Sub(*drawn, hn::VecFromMask(di, hn::RebindMask(di, d)));
-  *inliers = hn::Sub(*inliers, hn::VecFromMask(di, hn::RebindMask(di, hn::And(dv, hn::Lt(hn::Abs(hn::Sub(r, o)), eps)))));
-  *occluded = hn::Sub(*occluded, hn::VecFromMask(di, hn::RebindMask(di, hn::And(dv, hn::Le(o, hn::Sub(r, eps))))));
+  const PixelMasks<DF> m = TestVector(df, zr, zo, x, eps_m);
+  *drawn = hn::Sub(*drawn, hn::VecFromMask(di, hn::RebindMask(di, m.drawn)));
+  *inliers = hn::Sub(*inliers, hn::VecFromMask(di, hn::RebindMask(di, m.inlier)));
+  *occluded = hn::Sub(*occluded, hn::VecFromMask(di, hn::RebindMask(di, m.occluded)));
 }
 
 void CountRect(const float* rendered, const float* observed, int stride, int x0, int y0, int x1, int y1,
