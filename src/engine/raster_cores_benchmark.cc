@@ -1,6 +1,7 @@
 // Micro-benchmarks of the engine's stages on real YCB-Video frames (ground-truth boxes, samples
 // drawn as the estimator draws them):
-//   BM_ScoreIteration  render + inlier counting of one iteration, grid {object, engine, LOD,
+//   BM_ScoreIteration  render + inlier counting of one iteration, grid {object, engine, LOD
+//                      (with or without cluster culling),
 //                      threads, samples, pixel stride}
 //   BM_TriangleSetup   fixed-point triangle setup alone (snap, cull, edge functions, 1/z plane)
 //                      over the LOD mesh of every sample, per triangle or batched (SIMD
@@ -40,7 +41,7 @@ struct Workload {
   std::vector<engine::BoxDepth> boxes;
   filter::ParticleSet particles;
   std::unique_ptr<render::LodChain> lod;
-  const Mesh* lod_mesh = nullptr;  // the level a 1-pixel budget picks for this box
+  const render::LodLevel* lod_level = nullptr;  // the level a 1-pixel budget picks for this box
 };
 
 // One object of one real frame, boxed by its visible mask, scored at a pixel stride.
@@ -68,7 +69,7 @@ const Workload& GetWorkload(FrameKey key, int obj_id, int samples, int stride = 
   options.lod_error_px = 1.0;
   engine::InitializeSamples(w->frame.K, w->mesh, std::span(&w->det, 1), w->boxes, options, 1, &w->particles);
   w->lod = std::make_unique<render::LodChain>(render::LodChain::Build(w->mesh));
-  w->lod_mesh = &w->lod->level(engine::SelectLodLevel(*w->lod, w->frame.K, w->mesh, w->det, w->boxes[0], options)).mesh;
+  w->lod_level = &w->lod->level(engine::SelectLodLevel(*w->lod, w->frame.K, w->mesh, w->det, w->boxes[0], options));
   slot = std::move(w);
   return *slot;
 }
@@ -77,18 +78,20 @@ const Workload& GetWorkload(FrameKey key, int obj_id, int samples, int stride = 
 constexpr std::pair<FrameKey, int> kObjects[] = {
     {{1, 1}, 2}, {{3, 138}, 4}, {{1, 1}, 5}, {{2, 1}, 9}, {{2, 1}, 10}};
 
-// Args: object index, engine (0 scalar, 1 fixed, 2 simd), LOD (0 full mesh, 1 one pixel),
-// threads, samples, pixel stride.
+// Args: object index, engine (0 scalar, 1 fixed, 2 simd), LOD (0 full mesh, 1 one pixel,
+// 2 one pixel with cluster culling, as the estimator runs), threads, samples, pixel stride.
 void BM_ScoreIteration(benchmark::State& state) {
   const auto& [key, obj_id] = kObjects[state.range(0)];
   const Workload& w = GetWorkload(key, obj_id, static_cast<int>(state.range(4)), static_cast<int>(state.range(5)));
   const RasterBackend backends[] = {RasterBackend::kScalar, RasterBackend::kFixedPoint, RasterBackend::kSimd};
   const auto backend = backends[state.range(1)];
   engine::RasterCores cores(static_cast<int>(state.range(3)), backend);
-  const Mesh* box_mesh[1] = {state.range(2) ? w.lod_mesh : &w.mesh};
+  const Mesh* box_mesh[1] = {state.range(2) ? &w.lod_level->mesh : &w.mesh};
+  const render::ClusterSet* box_clusters[1] = {&w.lod_level->clusters};
   engine::ScoreJob job;
   job.mesh = &w.mesh;
   job.box_mesh = box_mesh;
+  if (state.range(2) == 2) job.box_clusters = box_clusters;
   job.K = w.frame.K;
   job.boxes = w.boxes;
   std::vector<score::InlierCounts> counts(w.particles.size());
@@ -98,7 +101,7 @@ void BM_ScoreIteration(benchmark::State& state) {
     benchmark::DoNotOptimize(counts.data());
   }
   state.SetLabel("obj " + std::to_string(obj_id) + " " + RasterBackendName(backend) +
-                 (state.range(2) ? " lod" : " full") + " stride " + std::to_string(state.range(5)));
+                 (state.range(2) == 2 ? " lod+clusters" : state.range(2) ? " lod" : " full") + " stride " + std::to_string(state.range(5)));
   state.counters["hypotheses_per_s"] =
       benchmark::Counter(static_cast<double>(w.particles.size()), benchmark::Counter::kIsIterationInvariantRate);
   state.counters["fragments_per_iter"] = static_cast<double>(stats.fragments) / state.iterations();
@@ -118,6 +121,13 @@ BENCHMARK(BM_ScoreIteration)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->MinTime(0.5);
+// The estimator's default engine (simd, LOD with cluster culling, stride 2) for every object.
+BENCHMARK(BM_ScoreIteration)
+    ->ArgNames({"object", "engine", "lod", "threads", "samples", "stride"})
+    ->ArgsProduct({{0, 1, 2, 3, 4}, {2}, {2}, {1, 2}, {620}, {2}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MinTime(0.5);
 
 // Triangle setup alone: every triangle of the 1-pixel LOD mesh of every sample (vertices
 // projected beforehand), SetupFixedTriangle and nothing else. Args: object index, threads,
@@ -125,7 +135,7 @@ BENCHMARK(BM_ScoreIteration)
 void BM_TriangleSetup(benchmark::State& state) {
   const auto& [key, obj_id] = kObjects[state.range(0)];
   const Workload& w = GetWorkload(key, obj_id, static_cast<int>(state.range(2)));
-  const Mesh& mesh = *w.lod_mesh;
+  const Mesh& mesh = w.lod_level->mesh;
   render::RasterParams p;
   p.fx = static_cast<float>(w.frame.K.fx), p.fy = static_cast<float>(w.frame.K.fy);
   p.cx = static_cast<float>(w.frame.K.cx), p.cy = static_cast<float>(w.frame.K.cy);
