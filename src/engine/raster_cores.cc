@@ -151,24 +151,37 @@ void RasterCores::Score(const ScoreJob& job, const filter::ParticleSet& particle
             break;
           }
           const Eigen::Vector3f camera_in_model = -(R.transpose() * t);
+          // Kept clusters are rasterized a run at a time: neighbours' triangles are adjacent in
+          // clusters->triangles, so a run is one call (one classification, one setup pass).
+          const std::span<const std::array<uint32_t, 3>> cluster_triangles(clusters->triangles);
+          uint32_t run_first = 0, run_count = 0;
+          auto flush = [&] {
+            if (run_count == 0) return;
+            render::RasterizeDepthFixedPoint(vertices, cluster_triangles.subspan(run_first, run_count), params,
+                                             s.zbuf.data(), &s.stats, rows, snapped);
+            run_count = 0;
+          };
           for (const render::Cluster& c : clusters->clusters) {
             ++s.stats.clusters;
             switch (render::CullCluster(c, R, t, camera_in_model, params)) {
               case render::ClusterCull::kBackface:
                 ++s.stats.clusters_culled_backface;
                 s.stats.triangles += c.count, s.stats.culled_backface += c.count;
+                flush();
                 break;
               case render::ClusterCull::kOutsideBox:
                 ++s.stats.clusters_culled_outside_box;
                 s.stats.triangles += c.count, s.stats.culled_outside_box += c.count;
+                flush();
                 break;
               case render::ClusterCull::kKeep:
-                render::RasterizeDepthFixedPoint(
-                    vertices, std::span(clusters->triangles).subspan(c.first, c.count), params, s.zbuf.data(),
-                    &s.stats, rows, snapped);
+                if (run_count > 0 && run_first + run_count != c.first) flush();
+                if (run_count == 0) run_first = c.first;
+                run_count += c.count;
                 break;
             }
           }
+          flush();
           break;
         }
       }
