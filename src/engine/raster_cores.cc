@@ -161,9 +161,18 @@ void RasterCores::Score(const ScoreJob& job, const filter::ParticleSet& particle
                                              s.zbuf.data(), &s.stats, rows, snapped);
             run_count = 0;
           };
-          for (const render::Cluster& c : clusters->clusters) {
+          // The simd engine decides a vector of clusters at a time; the same decisions.
+          s.culls.resize(clusters->clusters.size());
+          if (simd) {
+            render::CullClustersSimd(*clusters, R, t, camera_in_model, params, s.culls.data());
+          } else {
+            for (size_t k = 0; k < clusters->clusters.size(); ++k)
+              s.culls[k] = render::CullCluster(clusters->clusters[k], R, t, camera_in_model, params);
+          }
+          for (size_t k = 0; k < clusters->clusters.size(); ++k) {
+            const render::Cluster& c = clusters->clusters[k];
             ++s.stats.clusters;
-            switch (render::CullCluster(c, R, t, camera_in_model, params)) {
+            switch (s.culls[k]) {
               case render::ClusterCull::kBackface:
                 ++s.stats.clusters_culled_backface;
                 s.stats.triangles += c.count, s.stats.culled_backface += c.count;

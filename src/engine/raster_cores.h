@@ -93,6 +93,7 @@ class RasterCores {
     std::vector<render::ScreenVertex> vertices;
     std::vector<float> zbuf;
     render::SnappedVertices snapped;
+    std::vector<render::ClusterCull> culls;  // per cluster of the sample's mesh
     render::RasterStats stats;
   };
   ThreadPool pool_;

@@ -63,7 +63,22 @@ ClusterSet ClusterSet::Build(const Mesh& mesh) {
     if (!cone_holds) c.cone_cutoff = 1.0f;
     out.clusters.push_back(c);
   }
+  out.BuildSoa();
   return out;
+}
+
+void ClusterSet::BuildSoa() {
+  const size_t n = clusters.size();
+  soa_stride = (n + kSoaLanes - 1) / kSoaLanes * kSoaLanes;
+  soa.assign(soa_stride * kClusterFields, 0.0f);
+  for (size_t i = 0; i < soa_stride && n > 0; ++i) {
+    const Cluster& c = clusters[std::min(i, n - 1)];
+    const float fields[kClusterFields] = {
+        c.cone_apex.x(), c.cone_apex.y(), c.cone_apex.z(), c.cone_axis.x(), c.cone_axis.y(), c.cone_axis.z(),
+        c.cone_cutoff,   c.center.x(),    c.center.y(),    c.center.z(),    c.radius,        c.box_lo.x(),
+        c.box_lo.y(),    c.box_lo.z(),    c.box_hi.x(),    c.box_hi.y(),    c.box_hi.z()};
+    for (int f = 0; f < kClusterFields; ++f) soa[f * soa_stride + i] = fields[f];
+  }
 }
 
 ClusterCull CullCluster(const Cluster& c, const Eigen::Matrix3f& R, const Eigen::Vector3f& t,

@@ -29,23 +29,43 @@ struct Cluster {
   Eigen::Vector3f box_lo = Eigen::Vector3f::Zero(), box_hi = Eigen::Vector3f::Zero();  // its vertices' bounds
 };
 
+// The fields of Cluster that culling reads, in the order of ClusterSet::soa.
+enum ClusterField : int {
+  kApexX, kApexY, kApexZ, kAxisX, kAxisY, kAxisZ, kCutoff, kCenterX, kCenterY, kCenterZ, kRadius,
+  kBoxLoX, kBoxLoY, kBoxLoZ, kBoxHiX, kBoxHiY, kBoxHiZ, kClusterFields
+};
+
 struct ClusterSet {
   std::vector<std::array<uint32_t, 3>> triangles;  // the mesh's triangles, grouped by cluster
   std::vector<Cluster> clusters;
+  // The same clusters as structure of arrays for CullClustersSimd: field f of cluster i at
+  // soa[f * soa_stride + i]; soa_stride is clusters.size() rounded up to kSoaLanes, and the
+  // lanes past the last cluster repeat it.
+  std::vector<float> soa;
+  size_t soa_stride = 0;
+  static constexpr size_t kSoaLanes = 16;
   static constexpr size_t kMaxTriangles = 64;
   static constexpr size_t kMaxVertices = 64;
   // Every triangle of `mesh` lands in exactly one cluster (same vertex indices).
   static ClusterSet Build(const Mesh& mesh);
+  // Fills soa from clusters (Build calls it).
+  void BuildSoa();
 };
 
-enum class ClusterCull { kKeep, kBackface, kOutsideBox };
+enum class ClusterCull : uint8_t { kKeep, kBackface, kOutsideBox };
 
 // The cone margin: a cluster is dropped as back-facing only when the view direction is this
 // much (in cosine) inside its back-facing cone, so snapping cannot turn one of its triangles.
 inline constexpr float kConeMargin = 0.05f;
 
 // X_cam = R X + t; `camera_in_model` = -R^T t. Conservative (see the file comment).
+// The reference: one cluster at a time.
 ClusterCull CullCluster(const Cluster& c, const Eigen::Matrix3f& R, const Eigen::Vector3f& t,
                         const Eigen::Vector3f& camera_in_model, const RasterParams& params);
+// CullCluster for every cluster of `set`, a SIMD vector of clusters at a time
+// (render/clusters_simd.cc, Highway, runtime-dispatched): out[i] for set.clusters[i], the same
+// float operations in the same order, so the same decisions (tested on every target).
+void CullClustersSimd(const ClusterSet& set, const Eigen::Matrix3f& R, const Eigen::Vector3f& t,
+                      const Eigen::Vector3f& camera_in_model, const RasterParams& params, ClusterCull* out);
 
 }  // namespace mcpose::render

@@ -8,6 +8,7 @@
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <hwy/targets.h>
 
 #include "render/raster_fixed.h"
 
@@ -104,6 +105,54 @@ TEST(Clusters, CullsAreConservativeOnRandomPoses) {
   // Both tests fired often enough to mean something.
   EXPECT_GT(dropped_back, 300);
   EXPECT_GT(dropped_box, 300);
+}
+
+// The vector of clusters against CullCluster on every target: the same decision for every
+// cluster, over poses that put spheres and corners behind the near plane, boxes in and out of
+// view, and cluster counts that leave a partial last vector (1 to 17 clusters, and all).
+TEST(Clusters, SimdCullingMatchesTheReferenceOnEveryTarget) {
+  const Mesh m = Blob();
+  const ClusterSet all = ClusterSet::Build(m);
+  ASSERT_EQ(all.soa.size(), all.soa_stride * kClusterFields);
+  std::vector<ClusterSet> sets;
+  for (size_t n : {size_t{1}, size_t{3}, size_t{8}, size_t{9}, size_t{16}, size_t{17}}) {
+    ClusterSet part;
+    part.clusters.assign(all.clusters.begin(), all.clusters.begin() + static_cast<std::ptrdiff_t>(n));
+    part.BuildSoa();
+    sets.push_back(std::move(part));
+  }
+  sets.push_back(all);
+  RasterParams p;
+  p.fx = 1066.8f, p.fy = 1067.5f, p.cx = 313.0f, p.cy = 241.3f;
+  for (int64_t target : hwy::SupportedAndGeneratedTargets()) {
+    hwy::SetSupportedTargetsForTest(target);
+    std::mt19937_64 gen(17);
+    std::uniform_real_distribution<float> u(-1, 1);
+    int64_t seen[3] = {0, 0, 0};
+    for (int trial = 0; trial < 400; ++trial) {
+      const Eigen::Matrix3f R =
+          Eigen::AngleAxisf(3.14159f * u(gen), Eigen::Vector3f(u(gen), u(gen), u(gen)).normalized()).toRotationMatrix();
+      // Every fourth pose close enough that some spheres and boxes cross the near plane.
+      const float z = trial % 4 == 0 ? 0.1f + 0.06f * u(gen) : 0.6f + 0.3f * u(gen);
+      const Eigen::Vector3f t(0.15f * u(gen), 0.1f * u(gen), z);
+      const int x0 = 150 + static_cast<int>(200 * u(gen)), y0 = 120 + static_cast<int>(150 * u(gen));
+      p.box = PixelRect{x0, y0, x0 + 5 + static_cast<int>(60 * (1 + u(gen))), y0 + 5 + static_cast<int>(50 * (1 + u(gen)))};
+      const Eigen::Vector3f cam = -(R.transpose() * t);
+      for (const ClusterSet& cs : sets) {
+        std::vector<ClusterCull> simd(cs.clusters.size() + 1, static_cast<ClusterCull>(7));
+        CullClustersSimd(cs, R, t, cam, p, simd.data());
+        for (size_t i = 0; i < cs.clusters.size(); ++i) {
+          const ClusterCull ref = CullCluster(cs.clusters[i], R, t, cam, p);
+          ASSERT_EQ(static_cast<int>(simd[i]), static_cast<int>(ref))
+              << hwy::TargetName(target) << " trial " << trial << " cluster " << i << " of " << cs.clusters.size();
+          ++seen[static_cast<int>(ref)];
+        }
+        EXPECT_EQ(static_cast<int>(simd.back()), 7) << "wrote past the last cluster";
+      }
+    }
+    for (int64_t n : seen) EXPECT_GT(n, 1000) << hwy::TargetName(target);
+  }
+  hwy::SetSupportedTargetsForTest(0);
 }
 
 }  // namespace
