@@ -151,46 +151,55 @@ void RasterCores::Score(const ScoreJob& job, const filter::ParticleSet& particle
             break;
           }
           const Eigen::Vector3f camera_in_model = -(R.transpose() * t);
-          // Kept clusters are rasterized a run at a time: neighbours' triangles are adjacent in
-          // clusters->triangles, so a run is one call (one classification, one setup pass).
-          const std::span<const std::array<uint32_t, 3>> cluster_triangles(clusters->triangles);
-          uint32_t run_first = 0, run_count = 0;
-          auto flush = [&] {
-            if (run_count == 0) return;
-            render::RasterizeDepthFixedPoint(vertices, cluster_triangles.subspan(run_first, run_count), params,
-                                             s.zbuf.data(), &s.stats, rows, snapped);
-            run_count = 0;
-          };
           // The simd engine decides a vector of clusters at a time; the same decisions.
-          s.culls.resize(clusters->clusters.size());
+          const size_t n_clusters = clusters->clusters.size();
+          s.culls.resize(n_clusters);
           if (simd) {
             render::CullClustersSimd(*clusters, R, t, camera_in_model, params, s.culls.data());
           } else {
-            for (size_t k = 0; k < clusters->clusters.size(); ++k)
+            for (size_t k = 0; k < n_clusters; ++k)
               s.culls[k] = render::CullCluster(clusters->clusters[k], R, t, camera_in_model, params);
           }
-          for (size_t k = 0; k < clusters->clusters.size(); ++k) {
+          // The kept clusters' triangles, in cluster order, go through one classification and
+          // setup pass: runs of adjacent kept clusters are referenced in place, and copied
+          // together only when a dropped cluster splits them.
+          const std::span<const std::array<uint32_t, 3>> all(clusters->triangles);
+          s.kept_triangles.clear();
+          size_t run_first = 0, run_end = 0;  // the current run of kept triangles in `all`
+          bool copied = false;
+          for (size_t k = 0; k < n_clusters; ++k) {
             const render::Cluster& c = clusters->clusters[k];
-            ++s.stats.clusters;
             switch (s.culls[k]) {
               case render::ClusterCull::kBackface:
                 ++s.stats.clusters_culled_backface;
-                s.stats.triangles += c.count, s.stats.culled_backface += c.count;
-                flush();
+                s.stats.culled_backface += c.count;
                 break;
               case render::ClusterCull::kOutsideBox:
                 ++s.stats.clusters_culled_outside_box;
-                s.stats.triangles += c.count, s.stats.culled_outside_box += c.count;
-                flush();
+                s.stats.culled_outside_box += c.count;
                 break;
               case render::ClusterCull::kKeep:
-                if (run_count > 0 && run_first + run_count != c.first) flush();
-                if (run_count == 0) run_first = c.first;
-                run_count += c.count;
-                break;
+                if (run_end != c.first) {  // a new run: the previous one is copied out
+                  if (run_end > run_first) {
+                    s.kept_triangles.insert(s.kept_triangles.end(), all.begin() + run_first, all.begin() + run_end);
+                    copied = true;
+                  }
+                  run_first = c.first;
+                }
+                run_end = c.first + c.count;
+                continue;
             }
+            s.stats.triangles += c.count;
           }
-          flush();
+          s.stats.clusters += static_cast<int64_t>(n_clusters);
+          std::span<const std::array<uint32_t, 3>> kept = all.subspan(run_first, run_end - run_first);
+          if (copied) {
+            s.kept_triangles.insert(s.kept_triangles.end(), kept.begin(), kept.end());
+            kept = s.kept_triangles;
+          }
+          if (!kept.empty()) {
+            render::RasterizeDepthFixedPoint(vertices, kept, params, s.zbuf.data(), &s.stats, rows, snapped);
+          }
           break;
         }
       }

@@ -94,6 +94,7 @@ class RasterCores {
     std::vector<float> zbuf;
     render::SnappedVertices snapped;
     std::vector<render::ClusterCull> culls;  // per cluster of the sample's mesh
+    std::vector<std::array<uint32_t, 3>> kept_triangles;  // the kept clusters' triangles
     render::RasterStats stats;
   };
   ThreadPool pool_;
