@@ -37,7 +37,12 @@ ClusterSet ClusterSet::Build(const Mesh& mesh) {
     c.first = static_cast<uint32_t>(out.triangles.size());
     c.count = ml.triangle_count;
     c.center = Eigen::Vector3f(b.center[0], b.center[1], b.center[2]);
+    // meshoptimizer's sphere leaves out the vertices of zero-area triangles, which snapping can
+    // still turn into covered pixels: grow it to hold every vertex of the cluster.
     c.radius = b.radius;
+    for (unsigned int k = 0; k < ml.vertex_count; ++k) {
+      c.radius = std::max(c.radius, (mesh.vertices_m[meshlet_vertices[ml.vertex_offset + k]] - c.center).norm());
+    }
     c.cone_apex = Eigen::Vector3f(b.cone_apex[0], b.cone_apex[1], b.cone_apex[2]);
     c.cone_axis = Eigen::Vector3f(b.cone_axis[0], b.cone_axis[1], b.cone_axis[2]);
     c.cone_cutoff = b.cone_cutoff;
