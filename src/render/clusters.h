@@ -1,5 +1,5 @@
 // Cluster culling for the raster cores: a mesh split by meshoptimizer into clusters (meshlets)
-// of up to 64 triangles, each with a bounding sphere and a normal cone, so that whole clusters
+// of up to 16 triangles, each with a bounding sphere and a normal cone, so that whole clusters
 // that lie outside a sample's box or face away from its camera are dropped before triangle
 // setup. The box test is conservative (a dropped cluster's triangles all miss the box by more
 // than a pixel). The back-facing test is meshoptimizer's normal cone with a margin, and is
@@ -44,8 +44,8 @@ struct ClusterSet {
   std::vector<float> soa;
   size_t soa_stride = 0;
   static constexpr size_t kSoaLanes = 16;
-  static constexpr size_t kMaxTriangles = 64;
-  static constexpr size_t kMaxVertices = 64;
+  static constexpr size_t kMaxTriangles = 16;  // see BENCHMARKS.md for 8, 16, 32, 64
+  static constexpr size_t kMaxVertices = 16;
   // Every triangle of `mesh` lands in exactly one cluster (same vertex indices).
   static ClusterSet Build(const Mesh& mesh);
   // Fills soa from clusters (Build calls it).
