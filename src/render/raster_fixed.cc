@@ -11,6 +11,26 @@ constexpr int32_t kOne = kSubpixelOne;
 
 }  // namespace
 
+CompactTriangle Compact(const FixedTriangle& t) {
+  CompactTriangle c;
+  c.x_lo = t.x_lo, c.x_hi = t.x_hi, c.y_lo = t.y_lo, c.y_hi = t.y_hi;
+  for (int k = 0; k < 3; ++k) {
+    c.w_row[k] = static_cast<int32_t>(t.w_row[k]);
+    c.step_x[k] = static_cast<int32_t>(t.step_x[k]), c.step_y[k] = static_cast<int32_t>(t.step_y[k]);
+  }
+  c.A = t.A, c.B = t.B, c.C = t.C;
+  return c;
+}
+
+FixedTriangle Widen(const CompactTriangle& c) {
+  FixedTriangle t;
+  t.x_lo = c.x_lo, t.x_hi = c.x_hi, t.y_lo = c.y_lo, t.y_hi = c.y_hi;
+  for (int k = 0; k < 3; ++k) t.w_row[k] = c.w_row[k], t.step_x[k] = c.step_x[k], t.step_y[k] = c.step_y[k];
+  t.A = c.A, t.B = c.B, t.C = c.C;
+  t.simd_fits = true;
+  return t;
+}
+
 int64_t FillTriangleScalar(const FixedTriangle& t, float* zbuf, int stride) {
   int64_t covered = 0;
   int64_t w_row[3] = {t.w_row[0], t.w_row[1], t.w_row[2]};
@@ -140,18 +160,22 @@ TriangleSetup SetupBatchedTriangle(std::span<const ScreenVertex> vertices, const
 
 namespace {
 
-// The rows of one set-up triangle, counted in *s.
-inline void FillOne(const FixedTriangle& ft, float* zbuf, int stride, RowKernel rows, RasterStats* s) {
-  // Walk the bounding box a vector of pixels at a time where the edge functions fit in 32 bits
-  // (render/raster_simd.cc); both kernels give bit-identical results.
-  const bool simd = rows == RowKernel::kSimd && ft.simd_fits;
-  const int64_t covered = simd ? FillTriangleSimd(ft, zbuf, stride) : FillTriangleScalar(ft, zbuf, stride);
+// A triangle's covered pixel count, counted in *s.
+inline void CountFill(int64_t covered, RasterStats* s) {
   if (covered == 0) {
     ++s->culled_between_pixels;
   } else {
     ++s->rasterized;
     s->fragments += covered;
   }
+}
+
+// The rows of one set-up triangle, counted in *s.
+inline void FillOne(const FixedTriangle& ft, float* zbuf, int stride, RowKernel rows, RasterStats* s) {
+  // Walk the bounding box a vector of pixels at a time where the edge functions fit in 32 bits
+  // (render/raster_simd.cc); both kernels give bit-identical results.
+  const bool simd = rows == RowKernel::kSimd && ft.simd_fits;
+  CountFill(simd ? FillTriangleSimd(ft, zbuf, stride) : FillTriangleScalar(ft, zbuf, stride), s);
 }
 
 // Setup and rows of one triangle (triangles[t]), counted in *s.
@@ -195,7 +219,10 @@ void RasterizeDepthFixedPoint(std::span<const ScreenVertex> vertices,
                    snapped->setups.data(), snapped->ready.data());
     for (size_t j = 0; j < kept; ++j) {
       if (snapped->ready[j]) {
-        FillOne(snapped->setups[j], zbuf, stride, rows, &s);
+        const CompactTriangle& ct = snapped->setups[j];
+        CountFill(rows == RowKernel::kSimd ? FillCompactSimd(ct, zbuf, stride)
+                                           : FillTriangleScalar(Widen(ct), zbuf, stride),
+                  &s);
       } else {  // culled, float path or a deferred vertex: the per-triangle stage decides
         RasterizeOne(vertices, triangles, snapped->survivors[j], params, zbuf, stride, rows, &s,
                      snapped->packed.data());

@@ -41,6 +41,19 @@ struct FixedTriangle {
   bool simd_fits = false;  // the span keeps the edge functions in 32 bits (kMaxSimdSpanPx)
 };
 
+// A set-up triangle whose span fits the SIMD rows (simd_fits): FixedTriangle's values in 32
+// bits, which holds them exactly (|E| < 2^30), in 64 bytes. The batched setup writes these,
+// and the SIMD row kernel reads them.
+struct CompactTriangle {
+  int32_t x_lo = 0, x_hi = -1, y_lo = 0, y_hi = -1;
+  int32_t w_row[3] = {0, 0, 0}, step_x[3] = {0, 0, 0}, step_y[3] = {0, 0, 0};
+  float A = 0, B = 0, C = 0;
+};
+static_assert(sizeof(CompactTriangle) == 64);
+// The same triangle in the other form (Compact requires t.simd_fits).
+CompactTriangle Compact(const FixedTriangle& t);
+FixedTriangle Widen(const CompactTriangle& t);
+
 // What triangle setup made of one triangle.
 enum class TriangleSetup {
   kReady,                // *out is set up: walk it with a Fill kernel
@@ -78,6 +91,8 @@ TriangleSetup SetupSnappedTriangle(const int32_t X[3], const int32_t Y[3], const
 //                       integer coverage, same float operations, no FMA contraction).
 int64_t FillTriangleScalar(const FixedTriangle& t, float* zbuf, int stride);
 int64_t FillTriangleSimd(const FixedTriangle& t, float* zbuf, int stride);
+// FillTriangleSimd of Widen(t): the same kernel, without the conversion.
+int64_t FillCompactSimd(const CompactTriangle& t, float* zbuf, int stride);
 
 enum class RowKernel { kScalar, kSimd };
 
@@ -92,7 +107,7 @@ inline constexpr int32_t kSnappedDeferred = INT32_MIN;
 struct SnappedVertices {
   std::vector<int32_t> packed;
   std::vector<uint32_t> survivors;  // ClassifyTriangles' output buffer
-  std::vector<FixedTriangle> setups;  // SetupSurvivors' output buffers
+  std::vector<CompactTriangle> setups;  // SetupSurvivors' output buffers
   std::vector<uint8_t> ready;
 };
 void SnapVertices(std::span<const ScreenVertex> vertices, const RasterParams& params, SnappedVertices* out);
@@ -121,12 +136,13 @@ TriangleSetup SetupBatchedTriangle(std::span<const ScreenVertex> vertices, const
                                    const std::array<uint32_t, 3>& tri, const RasterParams& params, FixedTriangle* out);
 
 // SetupBatchedTriangle for many survivors at once, a SIMD vector of doubles at a time
-// (setup_simd.cc): for each j, ready[j] = 1 and out[j] set up bit-identically to
-// SetupSnappedTriangle when that would return kReady; ready[j] = 0 otherwise (a deferred
-// vertex, or any cull or the float path: the caller runs SetupBatchedTriangle for it).
+// (setup_simd.cc): for each j, ready[j] = 1 and out[j] = Compact of what SetupSnappedTriangle
+// sets up (bit-identical) when that would return kReady with simd_fits; ready[j] = 0 otherwise
+// (a deferred vertex, any cull, the float path, or a span too wide for the SIMD rows: the
+// caller runs SetupBatchedTriangle for it).
 void SetupSurvivors(const SnappedVertices& snapped, std::span<const ScreenVertex> vertices,
                     std::span<const std::array<uint32_t, 3>> triangles, const RasterParams& params,
-                    std::span<const uint32_t> survivors, FixedTriangle* out, uint8_t* ready);
+                    std::span<const uint32_t> survivors, CompactTriangle* out, uint8_t* ready);
 
 // Renders the triangles. With `snapped` (SnapVertices of these vertices and params), setup is
 // batched: ClassifyTriangles first, then SetupSurvivors, and SetupBatchedTriangle for the

@@ -21,7 +21,7 @@ namespace hn = hwy::HWY_NAMESPACE;
 
 // The row walk with vectors of tag DF: the same operations per lane at any width.
 template <class DF>
-HWY_INLINE int64_t FillRows(DF df, const FixedTriangle& t, float* zbuf, int stride) {
+HWY_INLINE int64_t FillRows(DF df, const CompactTriangle& t, float* zbuf, int stride) {
   const hn::RebindToSigned<DF> di;
   const int32_t lanes = static_cast<int32_t>(hn::Lanes(di));
   const auto iota = hn::Iota(di, 0);
@@ -29,8 +29,8 @@ HWY_INLINE int64_t FillRows(DF df, const FixedTriangle& t, float* zbuf, int stri
   // spans <= kMaxSimdSpanPx keep |E| < 2^30 even for lanes past x_hi).
   decltype(hn::Zero(di)) lane_step[3], vec_step[3];
   for (int k = 0; k < 3; ++k) {
-    lane_step[k] = hn::Mul(iota, hn::Set(di, static_cast<int32_t>(t.step_x[k])));
-    vec_step[k] = hn::Set(di, static_cast<int32_t>(t.step_x[k] * lanes));
+    lane_step[k] = hn::Mul(iota, hn::Set(di, t.step_x[k]));
+    vec_step[k] = hn::Set(di, t.step_x[k] * lanes);
   }
   const auto fA = hn::Set(df, t.A);
   const auto one = hn::Set(df, 1.0f);
@@ -97,7 +97,7 @@ HWY_INLINE void StoreBlock(D d, hn::Vec<D> v, float* const* rows) {
 // scalar kernel. Rows past y_hi are masked out; their pointers alias row y_hi, so nothing
 // outside the triangle's rows (and the kSimdPadFloats slack after a row) is touched.
 template <size_t kW, class DF>
-HWY_INLINE int64_t FillBlocks(DF df, const FixedTriangle& t, float* zbuf, int stride) {
+HWY_INLINE int64_t FillBlocks(DF df, const CompactTriangle& t, float* zbuf, int stride) {
   const hn::RebindToSigned<DF> di;
   constexpr size_t kLanes = hn::MaxLanes(DF());
   constexpr int32_t kRows = static_cast<int32_t>(kLanes / kW);
@@ -107,10 +107,10 @@ HWY_INLINE int64_t FillBlocks(DF df, const FixedTriangle& t, float* zbuf, int st
   const auto ly = hn::ShiftRight<hwy::CeilLog2(kW)>(lane);
   decltype(hn::Zero(di)) w[3], block_step[3];
   for (int k = 0; k < 3; ++k) {
-    const auto offset = hn::Add(hn::Mul(lx, hn::Set(di, static_cast<int32_t>(t.step_x[k]))),
-                                hn::Mul(ly, hn::Set(di, static_cast<int32_t>(t.step_y[k]))));
-    w[k] = hn::Add(hn::Set(di, static_cast<int32_t>(t.w_row[k])), offset);
-    block_step[k] = hn::Set(di, static_cast<int32_t>(t.step_y[k] * kRows));
+    const auto offset = hn::Add(hn::Mul(lx, hn::Set(di, t.step_x[k])),
+                                hn::Mul(ly, hn::Set(di, t.step_y[k])));
+    w[k] = hn::Add(hn::Set(di, t.w_row[k]), offset);
+    block_step[k] = hn::Set(di, t.step_y[k] * kRows);
   }
   const auto in_span = hn::Lt(lx, hn::Set(di, t.x_hi - t.x_lo + 1));
   // A x per lane, rounded as the scalar kernel rounds it before adding B y + C.
@@ -141,15 +141,15 @@ HWY_INLINE int64_t FillBlocks(DF df, const FixedTriangle& t, float* zbuf, int st
 // unrolled, each with its span mask hoisted out of the row loop, no branches. The same lanes,
 // integer tests and float operations as FillRows and the scalar kernel.
 template <int kVecs, class DF>
-HWY_INLINE int64_t FillWideRows(DF df, const FixedTriangle& t, float* zbuf, int stride) {
+HWY_INLINE int64_t FillWideRows(DF df, const CompactTriangle& t, float* zbuf, int stride) {
   const hn::RebindToSigned<DF> di;
   constexpr int32_t kLanes = static_cast<int32_t>(hn::MaxLanes(DF()));
   const auto iota = hn::Iota(di, 0);
   decltype(hn::Zero(di)) w[3], lane_step[3], vec_step[3];
   for (int k = 0; k < 3; ++k) {
-    lane_step[k] = hn::Mul(iota, hn::Set(di, static_cast<int32_t>(t.step_x[k])));
-    vec_step[k] = hn::Set(di, static_cast<int32_t>(t.step_x[k] * kLanes));
-    w[k] = hn::Add(hn::Set(di, static_cast<int32_t>(t.w_row[k])), lane_step[k]);
+    lane_step[k] = hn::Mul(iota, hn::Set(di, t.step_x[k]));
+    vec_step[k] = hn::Set(di, t.step_x[k] * kLanes);
+    w[k] = hn::Add(hn::Set(di, t.w_row[k]), lane_step[k]);
   }
   const int32_t span = t.x_hi - t.x_lo + 1;
   decltype(hn::FirstN(di, 0)) in_span[kVecs];
@@ -176,7 +176,7 @@ HWY_INLINE int64_t FillWideRows(DF df, const FixedTriangle& t, float* zbuf, int 
       hn::StoreU(hn::IfThenElse(keep, z, dst), df, row + j * kLanes);
       e0 = hn::Add(e0, vec_step[0]), e1 = hn::Add(e1, vec_step[1]), e2 = hn::Add(e2, vec_step[2]);
     }
-    for (int k = 0; k < 3; ++k) w[k] = hn::Add(w[k], hn::Set(di, static_cast<int32_t>(t.step_y[k])));
+    for (int k = 0; k < 3; ++k) w[k] = hn::Add(w[k], hn::Set(di, t.step_y[k]));
   }
   return covered;
 }
@@ -187,7 +187,7 @@ HWY_INLINE int64_t FillWideRows(DF df, const FixedTriangle& t, float* zbuf, int 
 // vector otherwise, with the span mask hoisted out of the row loop. Up to 4 vectors wide,
 // FillWideRows; wider ones FillRows.
 // Bit-identical at every width.
-int64_t FillTriangleRows(const FixedTriangle& t, float* zbuf, int stride) {
+int64_t FillTriangleRows(const CompactTriangle& t, float* zbuf, int stride) {
   const hn::ScalableTag<float> df;
 #if HWY_TARGET != HWY_SCALAR
   const int32_t span = t.x_hi - t.x_lo + 1;
@@ -217,8 +217,12 @@ namespace mcpose::render {
 
 HWY_EXPORT(FillTriangleRows);
 
-int64_t FillTriangleSimd(const FixedTriangle& t, float* zbuf, int stride) {
+int64_t FillCompactSimd(const CompactTriangle& t, float* zbuf, int stride) {
   return HWY_DYNAMIC_DISPATCH(FillTriangleRows)(t, zbuf, stride);
+}
+
+int64_t FillTriangleSimd(const FixedTriangle& t, float* zbuf, int stride) {
+  return FillCompactSimd(Compact(t), zbuf, stride);
 }
 
 std::string SimdTargetsAvailable() {

@@ -135,20 +135,24 @@ size_t ClassifyTrianglesImpl(const int32_t* packed, const uint32_t* tri, size_t 
 
 // SetupSnappedTriangle for many triangles, a vector of doubles at a time: the same integer
 // tests and the same double operations in the same order, lane by lane, so every triangle it
-// sets up is bit-identical to the scalar setup. Lanes that are not ready (a deferred vertex,
-// degenerate, back-facing, outside the box, too wide, between pixels) get ready[j] = 0.
+// sets up is bit-identical to the scalar setup, written in CompactTriangle form. Lanes that
+// are not ready (a deferred vertex, degenerate, back-facing, outside the box, between pixels,
+// too wide for the fixed point or for the SIMD rows) get ready[j] = 0.
 void SetupSurvivorsImpl(const int32_t* packed, const ScreenVertex* vertices, const uint32_t* tri,
                         const uint32_t* survivors, size_t count, int32_t box_w, int32_t box_h, bool cull_backfaces,
-                        FixedTriangle* out, uint8_t* ready) {
+                        CompactTriangle* out, uint8_t* ready) {
   const hn::ScalableTag<double> dd;
   const hn::Rebind<float, decltype(dd)> df;
+  const hn::Rebind<int32_t, decltype(dd)> di;
   const size_t lanes = hn::Lanes(dd);
   constexpr size_t kMax = HWY_MAX_BYTES / sizeof(double);
   HWY_ALIGN double x[3][kMax], y[3][kMax], z[3][kMax], bad[kMax];
-  // Staged as doubles (every value is an integer below 2^53) and converted one by one when
-  // written out: AVX2 has no vector double -> int64 conversion (Highway emulates it).
-  HWY_ALIGN double o_w[3][kMax], o_sx[3][kMax], o_sy[3][kMax], o_lo[2][kMax], o_hi[2][kMax], o_ok[kMax], o_fit[kMax];
-  HWY_ALIGN float o_abc[3][kMax];
+  // The results in CompactTriangle's field order, a row of lanes per field: the integers
+  // converted a vector at a time (exact for the lanes that are ready: they fit the SIMD rows,
+  // so |value| < 2^30), A, B, C as their bits.
+  constexpr int kFields = sizeof(CompactTriangle) / sizeof(int32_t);
+  HWY_ALIGN int32_t o[kFields][kMax];
+  HWY_ALIGN int32_t o_ready[kMax];
   const auto zero = hn::Zero(dd), one = hn::Set(dd, 1.0), sub = hn::Set(dd, static_cast<double>(kSubpixelOne));
   const auto x_last = hn::Set(dd, box_w - 1), y_last = hn::Set(dd, box_h - 1);
   const auto x_max = hn::Set(dd, (box_w - 1) * kSubpixelOne), y_max = hn::Set(dd, (box_h - 1) * kSubpixelOne);
@@ -204,33 +208,25 @@ void SetupSurvivorsImpl(const int32_t* packed, const ScreenVertex* vertices, con
       const auto top_left = hn::Or(hn::And(hn::Eq(dy, zero), hn::Lt(dx, zero)), hn::Gt(dy, zero));
       const auto w = hn::Sub(hn::Sub(hn::Mul(dx, hn::Sub(py0, P0y[k])), hn::Mul(dy, hn::Sub(px0, P0x[k]))),
                              hn::IfThenZeroElse(top_left, one));
-      hn::Store(w, dd, o_w[k]);
-      hn::Store(hn::Mul(hn::Neg(dy), sub), dd, o_sx[k]);
-      hn::Store(hn::Mul(dx, sub), dd, o_sy[k]);
+      hn::Store(hn::DemoteTo(di, w), di, o[4 + k]);
+      hn::Store(hn::DemoteTo(di, hn::Mul(hn::Neg(dy), sub)), di, o[7 + k]);
+      hn::Store(hn::DemoteTo(di, hn::Mul(dx, sub)), di, o[10 + k]);
       const auto wk = hn::Mul(iz[k], inv_area);
       A = hn::Add(A, hn::Mul(hn::Mul(hn::Neg(dy), sub), wk));
       B = hn::Add(B, hn::Mul(hn::Mul(dx, sub), wk));
       C = hn::Add(C, hn::Mul(hn::Sub(hn::Mul(dx, hn::Neg(P0y[k])), hn::Mul(dy, hn::Neg(P0x[k]))), wk));
     }
-    hn::Store(hn::DemoteTo(df, A), df, o_abc[0]);
-    hn::Store(hn::DemoteTo(df, B), df, o_abc[1]);
-    hn::Store(hn::DemoteTo(df, C), df, o_abc[2]);
-    hn::Store(x_lo, dd, o_lo[0]), hn::Store(y_lo, dd, o_lo[1]);
-    hn::Store(x_hi, dd, o_hi[0]), hn::Store(y_hi, dd, o_hi[1]);
-    hn::Store(hn::IfThenElseZero(ok, one), dd, o_ok);
-    hn::Store(hn::IfThenElseZero(fits, one), dd, o_fit);
+    hn::Store(hn::BitCast(di, hn::DemoteTo(df, A)), di, o[13]);
+    hn::Store(hn::BitCast(di, hn::DemoteTo(df, B)), di, o[14]);
+    hn::Store(hn::BitCast(di, hn::DemoteTo(df, C)), di, o[15]);
+    hn::Store(hn::DemoteTo(di, x_lo), di, o[0]), hn::Store(hn::DemoteTo(di, x_hi), di, o[1]);
+    hn::Store(hn::DemoteTo(di, y_lo), di, o[2]), hn::Store(hn::DemoteTo(di, y_hi), di, o[3]);
+    hn::Store(hn::DemoteTo(di, hn::IfThenElseZero(hn::And(ok, fits), one)), di, o_ready);
     for (size_t j = 0; j < lanes && first + j < count; ++j) {
-      ready[first + j] = o_ok[j] != 0;
-      if (!o_ok[j]) continue;
-      FixedTriangle& ft = out[first + j];
-      ft.x_lo = static_cast<int32_t>(o_lo[0][j]), ft.y_lo = static_cast<int32_t>(o_lo[1][j]);
-      ft.x_hi = static_cast<int32_t>(o_hi[0][j]), ft.y_hi = static_cast<int32_t>(o_hi[1][j]);
-      for (int k = 0; k < 3; ++k) {
-        ft.w_row[k] = static_cast<int64_t>(o_w[k][j]);
-        ft.step_x[k] = static_cast<int64_t>(o_sx[k][j]), ft.step_y[k] = static_cast<int64_t>(o_sy[k][j]);
-      }
-      ft.A = o_abc[0][j], ft.B = o_abc[1][j], ft.C = o_abc[2][j];
-      ft.simd_fits = o_fit[j] != 0;
+      ready[first + j] = o_ready[j] != 0;
+      if (!o_ready[j]) continue;
+      int32_t* dst = reinterpret_cast<int32_t*>(&out[first + j]);
+      for (int f = 0; f < kFields; ++f) dst[f] = o[f][j];
     }
   }
 }
@@ -248,7 +244,7 @@ HWY_EXPORT(SetupSurvivorsImpl);
 
 void SetupSurvivors(const SnappedVertices& snapped, std::span<const ScreenVertex> vertices,
                     std::span<const std::array<uint32_t, 3>> triangles, const RasterParams& params,
-                    std::span<const uint32_t> survivors, FixedTriangle* out, uint8_t* ready) {
+                    std::span<const uint32_t> survivors, CompactTriangle* out, uint8_t* ready) {
   if (survivors.empty()) return;
   HWY_DYNAMIC_DISPATCH(SetupSurvivorsImpl)(snapped.packed.data(), vertices.data(), triangles.data()->data(),
                                           survivors.data(), survivors.size(), params.box.width(),

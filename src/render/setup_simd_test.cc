@@ -23,9 +23,9 @@ struct ScreenScene {
 };
 
 // Screen-space triangles of every kind setup meets: sub-pixel to hundreds of pixels, inside,
-// across and outside the box, wider than the fixed-point span, beyond the snap band and the
-// guard band, not finite, behind the near plane, degenerate, and vertices on exact sub-pixel
-// rounding ties.
+// across and outside the box, wider than the SIMD rows' span and than the fixed-point span,
+// beyond the snap band and the guard band, not finite, behind the near plane, degenerate, and
+// vertices on exact sub-pixel rounding ties.
 ScreenScene RandomScreenScene(std::mt19937_64& gen, int n, const PixelRect& box) {
   std::uniform_real_distribution<float> cu(box.x0 - 60.f, box.x1 + 60.f), cv(box.y0 - 60.f, box.y1 + 60.f);
   std::uniform_real_distribution<float> z(0.3f, 1.5f), unit(-1.f, 1.f);
@@ -40,6 +40,7 @@ ScreenScene RandomScreenScene(std::mt19937_64& gen, int n, const PixelRect& box)
     for (auto& q : p) q = {u0 + size * unit(gen), v0 + size * unit(gen), z(gen)};
     switch (k) {
       case 6: p[1].u = p[0].u + 2500.f; break;                          // wider than kMaxSpanPx
+      case 14: p[1].u = p[0].u + 1500.f; break;                         // wider than kMaxSimdSpanPx
       case 7: p[2].u = 1e6f; break;                                      // outside the guard band
       case 13: p[1].v = box.y0 - 2100.f; break;                          // beyond the snap band
       case 8: p[1].v = NAN; break;                                       // not finite
@@ -110,11 +111,11 @@ TEST(BatchedSetup, SnapsAndClassifiesAsSetupFixedTriangleOnEveryTarget) {
 
       // The survivors set up a vector at a time: ready exactly when SetupFixedTriangle is,
       // field by field the same.
-      std::vector<FixedTriangle> setups(kept);
+      std::vector<CompactTriangle> setups(kept);
       std::vector<uint8_t> ready(kept, 7);
       SetupSurvivors(snapped, s.vertices, s.triangles, params, std::span(survivors.data(), kept), setups.data(),
                      ready.data());
-      int vector_ready = 0;
+      int vector_ready = 0, too_wide = 0;
       for (size_t j = 0; j < kept; ++j) {
         const auto& tri = s.triangles[survivors[j]];
         FixedTriangle ft;
@@ -122,13 +123,15 @@ TEST(BatchedSetup, SnapsAndClassifiesAsSetupFixedTriangleOnEveryTarget) {
             SetupFixedTriangle(s.vertices[tri[0]], s.vertices[tri[1]], s.vertices[tri[2]], params, &ft);
         const bool deferred = snapped.packed[tri[0]] == kSnappedDeferred ||
                               snapped.packed[tri[1]] == kSnappedDeferred || snapped.packed[tri[2]] == kSnappedDeferred;
-        ASSERT_EQ(ready[j], deferred ? 0 : ref == TriangleSetup::kReady)
+        ASSERT_EQ(ready[j], deferred ? 0 : ref == TriangleSetup::kReady && ft.simd_fits)
             << hwy::TargetName(target) << " survivor " << j << " setup " << static_cast<int>(ref);
+        too_wide += !deferred && ref == TriangleSetup::kReady && !ft.simd_fits;
         if (!ready[j]) continue;
         ++vector_ready;
-        ASSERT_TRUE(SameSetup(setups[j], ft)) << hwy::TargetName(target) << " survivor " << j;
+        ASSERT_TRUE(SameSetup(Widen(setups[j]), ft)) << hwy::TargetName(target) << " survivor " << j;
       }
       EXPECT_GT(vector_ready, 0);
+      EXPECT_GT(too_wide, 0) << "no triangle wider than the SIMD rows' span reached the setup";
 
       // One triangle per call: which reason it got, against SetupFixedTriangle.
       Counts expected;
