@@ -129,8 +129,12 @@ void RasterCores::Score(const ScoreJob& job, const filter::ParticleSet& particle
           cover.empty() ? render::PixelRect{}
                         : render::PixelRect{cover.x0 - box.rect.x0, cover.y0 - box.rect.y0,
                                             cover.x1 - box.rect.x0, cover.y1 - box.rect.y0};
-      for (int y = rel.y0; y < rel.y1; ++y)
-        std::fill_n(s.zbuf.data() + static_cast<size_t>(y) * stride + rel.x0, rel.width(), INFINITY);
+      if (simd) {
+        render::ClearDepthRectSimd(s.zbuf.data(), stride, rel);
+      } else {
+        for (int y = rel.y0; y < rel.y1; ++y)
+          std::fill_n(s.zbuf.data() + static_cast<size_t>(y) * stride + rel.x0, rel.width(), INFINITY);
+      }
       switch (backend_) {
         case RasterBackend::kScalar:
           render::RasterizeDepthReference(vertices, mesh.triangles, params, s.zbuf.data(), &s.stats);

@@ -93,6 +93,9 @@ int64_t FillTriangleScalar(const FixedTriangle& t, float* zbuf, int stride);
 int64_t FillTriangleSimd(const FixedTriangle& t, float* zbuf, int stride);
 // FillTriangleSimd of Widen(t): the same kernel, without the conversion.
 int64_t FillCompactSimd(const CompactTriangle& t, float* zbuf, int stride);
+// Sets the pixels of `rect` (box-relative, row stride `stride`) to +infinity, whole vectors
+// at a time (Highway, runtime-dispatched); touches nothing outside the rect.
+void ClearDepthRectSimd(float* zbuf, int stride, const PixelRect& rect);
 
 enum class RowKernel { kScalar, kSimd };
 

@@ -208,6 +208,22 @@ int64_t FillTriangleRows(const CompactTriangle& t, float* zbuf, int stride) {
   return FillRows(df, t, zbuf, stride);
 }
 
+void ClearRect(float* zbuf, int stride, int x0, int y0, int x1, int y1) {
+  const hn::ScalableTag<float> df;
+  const int lanes = static_cast<int>(hn::Lanes(df));
+  const auto inf = hn::Set(df, INFINITY);
+  const int width = x1 - x0;
+  for (int y = y0; y < y1; ++y) {
+    float* row = zbuf + static_cast<size_t>(y) * stride;
+    if (width < lanes) {
+      hn::BlendedStore(inf, hn::FirstN(df, static_cast<size_t>(width)), df, row + x0);
+      continue;
+    }
+    for (int x = x0; x < x1 - lanes; x += lanes) hn::StoreU(inf, df, row + x);
+    hn::StoreU(inf, df, row + x1 - lanes);  // the last vector, overlapping the one before
+  }
+}
+
 }  // namespace HWY_NAMESPACE
 }  // namespace mcpose::render
 HWY_AFTER_NAMESPACE();
@@ -219,6 +235,13 @@ HWY_EXPORT(FillTriangleRows);
 
 int64_t FillCompactSimd(const CompactTriangle& t, float* zbuf, int stride) {
   return HWY_DYNAMIC_DISPATCH(FillTriangleRows)(t, zbuf, stride);
+}
+
+HWY_EXPORT(ClearRect);
+
+void ClearDepthRectSimd(float* zbuf, int stride, const PixelRect& rect) {
+  if (rect.empty()) return;
+  HWY_DYNAMIC_DISPATCH(ClearRect)(zbuf, stride, rect.x0, rect.y0, rect.x1, rect.y1);
 }
 
 int64_t FillTriangleSimd(const FixedTriangle& t, float* zbuf, int stride) {

@@ -359,5 +359,33 @@ TEST(ProjectSimd, BitIdenticalToScalarOnEveryTarget) {
   hwy::SetSupportedTargetsForTest(0);
 }
 
+// ClearDepthRectSimd on every target: exactly the rect's pixels become +infinity, for rects
+// narrower than a vector, as wide as one, wider, and the whole buffer.
+TEST(RasterSimd, ClearDepthRectSetsExactlyTheRect) {
+  const int w = 70, h = 9;
+  std::mt19937_64 gen(23);
+  std::uniform_int_distribution<int> xs(0, w), ys(0, h);
+  for (int64_t target : hwy::SupportedAndGeneratedTargets()) {
+    hwy::SetSupportedTargetsForTest(target);
+    for (int trial = 0; trial < 200; ++trial) {
+      int x0 = xs(gen), x1 = xs(gen), y0 = ys(gen), y1 = ys(gen);
+      if (trial == 0) x0 = 0, x1 = w, y0 = 0, y1 = h;
+      if (trial == 1) x0 = 3, x1 = 3 + 16, y0 = 1, y1 = 2;
+      if (x0 > x1) std::swap(x0, x1);
+      if (y0 > y1) std::swap(y0, y1);
+      std::vector<float> z(static_cast<size_t>(w) * h + kSimdPadFloats);
+      for (size_t i = 0; i < z.size(); ++i) z[i] = static_cast<float>(i);
+      ClearDepthRectSimd(z.data(), w, PixelRect{x0, y0, x1, y1});
+      for (size_t i = 0; i < z.size(); ++i) {
+        const int x = static_cast<int>(i % w), y = static_cast<int>(i / w);
+        const bool inside = x >= x0 && x < x1 && y >= y0 && y < y1;
+        ASSERT_EQ(z[i], inside ? INFINITY : static_cast<float>(i))
+            << hwy::TargetName(target) << " rect " << x0 << "," << y0 << "-" << x1 << "," << y1 << " pixel " << i;
+      }
+    }
+  }
+  hwy::SetSupportedTargetsForTest(0);
+}
+
 }  // namespace
 }  // namespace mcpose::render
