@@ -28,20 +28,18 @@ ClusterSet ClusterSet::Build(const Mesh& mesh) {
         &meshlet_vertices[ml.vertex_offset], &meshlet_triangles[ml.triangle_offset], ml.triangle_count, positions,
         mesh.vertices_m.size(), sizeof(Eigen::Vector3f));
     Cluster c;
-    // The bounds of the cluster's vertices (the meshlet's vertex list: those its triangles use).
-    c.box_lo = c.box_hi = mesh.vertices_m[meshlet_vertices[ml.vertex_offset]];
-    for (unsigned int k = 1; k < ml.vertex_count; ++k) {
-      const Eigen::Vector3f& v = mesh.vertices_m[meshlet_vertices[ml.vertex_offset + k]];
-      c.box_lo = c.box_lo.cwiseMin(v), c.box_hi = c.box_hi.cwiseMax(v);
-    }
     c.first = static_cast<uint32_t>(out.triangles.size());
     c.count = ml.triangle_count;
     c.center = Eigen::Vector3f(b.center[0], b.center[1], b.center[2]);
-    // meshoptimizer's sphere leaves out the vertices of zero-area triangles, which snapping can
-    // still turn into covered pixels: grow it to hold every vertex of the cluster.
     c.radius = b.radius;
+    // Over the cluster's vertices (the meshlet's vertex list: those its triangles use): their
+    // bounds, and the sphere grown to hold them all (meshoptimizer's leaves out the vertices of
+    // zero-area triangles, which snapping can still turn into covered pixels).
+    c.box_lo = c.box_hi = mesh.vertices_m[meshlet_vertices[ml.vertex_offset]];
     for (unsigned int k = 0; k < ml.vertex_count; ++k) {
-      c.radius = std::max(c.radius, (mesh.vertices_m[meshlet_vertices[ml.vertex_offset + k]] - c.center).norm());
+      const Eigen::Vector3f& v = mesh.vertices_m[meshlet_vertices[ml.vertex_offset + k]];
+      c.box_lo = c.box_lo.cwiseMin(v), c.box_hi = c.box_hi.cwiseMax(v);
+      c.radius = std::max(c.radius, (v - c.center).norm());
     }
     c.cone_apex = Eigen::Vector3f(b.cone_apex[0], b.cone_apex[1], b.cone_apex[2]);
     c.cone_axis = Eigen::Vector3f(b.cone_axis[0], b.cone_axis[1], b.cone_axis[2]);
