@@ -170,7 +170,6 @@ void RasterCores::Score(const ScoreJob& job, const filter::ParticleSet& particle
           const std::span<const std::array<uint32_t, 3>> all(clusters->triangles);
           s.kept_triangles.clear();
           size_t run_first = 0, run_end = 0;  // the current run of kept triangles in `all`
-          bool copied = false;
           for (size_t k = 0; k < n_clusters; ++k) {
             const render::Cluster& c = clusters->clusters[k];
             switch (s.culls[k]) {
@@ -184,10 +183,7 @@ void RasterCores::Score(const ScoreJob& job, const filter::ParticleSet& particle
                 break;
               case render::ClusterCull::kKeep:
                 if (run_end != c.first) {  // a new run: the previous one is copied out
-                  if (run_end > run_first) {
-                    s.kept_triangles.insert(s.kept_triangles.end(), all.begin() + run_first, all.begin() + run_end);
-                    copied = true;
-                  }
+                  s.kept_triangles.insert(s.kept_triangles.end(), all.begin() + run_first, all.begin() + run_end);
                   run_first = c.first;
                 }
                 run_end = c.first + c.count;
@@ -197,7 +193,7 @@ void RasterCores::Score(const ScoreJob& job, const filter::ParticleSet& particle
           }
           s.stats.clusters += static_cast<int64_t>(n_clusters);
           std::span<const std::array<uint32_t, 3>> kept = all.subspan(run_first, run_end - run_first);
-          if (copied) {
+          if (!s.kept_triangles.empty()) {  // runs were copied out: the last one joins them
             s.kept_triangles.insert(s.kept_triangles.end(), kept.begin(), kept.end());
             kept = s.kept_triangles;
           }
