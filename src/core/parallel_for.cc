@@ -1,11 +1,42 @@
 #include "core/parallel_for.h"
 
 #include <algorithm>
+#include <chrono>
+
+#if defined(__x86_64__) || defined(_M_X64) || defined(__i386__)
+#include <immintrin.h>
+#endif
 
 namespace mcpose {
+namespace {
+
+inline void CpuRelax() {
+#if defined(__x86_64__) || defined(_M_X64) || defined(__i386__)
+  _mm_pause();
+#elif defined(__aarch64__)
+  asm volatile("yield");
+#endif
+}
+
+// Spins until done() or `micros` have passed; returns done().
+template <typename Done>
+bool SpinFor(int micros, const Done& done) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::microseconds(micros);
+  for (;;) {
+    for (int k = 0; k < 64; ++k) {
+      if (done()) return true;
+      CpuRelax();
+    }
+    if (std::chrono::steady_clock::now() >= deadline) return done();
+  }
+}
+
+}  // namespace
 
 ThreadPool::ThreadPool(int threads) {
-  num_threads_ = threads > 0 ? threads : std::max(1u, std::thread::hardware_concurrency());
+  const int hardware = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  num_threads_ = threads > 0 ? threads : hardware;
+  spin_micros_ = num_threads_ <= hardware ? kSpinMicros : 0;
   for (int i = 1; i < num_threads_; ++i) workers_.emplace_back([this, i] { WorkerLoop(i); });
 }
 
@@ -31,7 +62,7 @@ void ThreadPool::RunChunks(int worker) {
     (*job_)(begin, end, worker);
     {
       std::lock_guard<std::mutex> lock(mutex_);
-      if (++chunks_done_ == num_chunks_) cv_done_.notify_all();
+      if (chunks_done_.fetch_add(1) + 1 == num_chunks_) cv_done_.notify_all();
     }
   }
 }
@@ -39,6 +70,9 @@ void ThreadPool::RunChunks(int worker) {
 void ThreadPool::WorkerLoop(int worker) {
   uint64_t seen = 0;
   for (;;) {
+    // The state is read under the mutex; the spin only decides whether to block.
+    SpinFor(spin_micros_, [&] { return stop_.load(std::memory_order_relaxed) ||
+                                      generation_.load(std::memory_order_relaxed) != seen; });
     {
       std::unique_lock<std::mutex> lock(mutex_);
       cv_start_.wait(lock, [&] { return stop_ || generation_ != seen; });
@@ -56,6 +90,7 @@ void ThreadPool::ParallelFor(int64_t n, const std::function<void(int64_t, int64_
     fn(0, n, 0);
     return;
   }
+  int64_t num_chunks;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     job_ = &fn;
@@ -63,12 +98,14 @@ void ThreadPool::ParallelFor(int64_t n, const std::function<void(int64_t, int64_
     const int64_t want = std::max<int64_t>(1, int64_t{num_threads_} * chunks_per_thread);
     chunk_size_ = std::max<int64_t>(1, (n + want - 1) / want);
     num_chunks_ = (n + chunk_size_ - 1) / chunk_size_;
+    num_chunks = num_chunks_;
     next_chunk_ = 0;
     chunks_done_ = 0;
     ++generation_;
   }
   cv_start_.notify_all();
   RunChunks(0);
+  SpinFor(spin_micros_, [&] { return chunks_done_.load(std::memory_order_relaxed) == num_chunks; });
   std::unique_lock<std::mutex> lock(mutex_);
   cv_done_.wait(lock, [&] { return chunks_done_ == num_chunks_; });
   job_ = nullptr;

@@ -3,6 +3,7 @@
 // index only (see rng.h), so any thread count gives the same answer.
 #pragma once
 
+#include <atomic>
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
@@ -25,6 +26,12 @@ class ThreadPool {
   // Calls fn(begin, end, worker) over [0, n) split into about `chunks_per_thread` chunks per
   // thread; worker in [0, size()) identifies the calling thread's scratch space. Returns when
   // all chunks are done. The calling thread works too.
+  //
+  // Waiting threads spin for up to kSpinMicros before they block, so that back-to-back jobs
+  // (one per Monte-Carlo iteration, a millisecond or two each) do not pay a sleep and a wake
+  // per job; a pool left idle longer than that sleeps on a condition variable. A pool with more
+  // threads than the machine has hardware threads never spins (it would take the CPU from the
+  // threads that have work).
   void ParallelFor(int64_t n, const std::function<void(int64_t, int64_t, int)>& fn,
                    int chunks_per_thread = 8);
 
@@ -32,16 +39,20 @@ class ThreadPool {
   void WorkerLoop(int worker);
   void RunChunks(int worker);
 
+  static constexpr int kSpinMicros = 300;
+
   int num_threads_ = 1;
+  int spin_micros_ = 0;
   std::vector<std::thread> workers_;
   std::mutex mutex_;
   std::condition_variable cv_start_, cv_done_;
   // The job in flight.
   const std::function<void(int64_t, int64_t, int)>* job_ = nullptr;
   int64_t job_n_ = 0, chunk_size_ = 1, next_chunk_ = 0, num_chunks_ = 0;
-  int chunks_done_ = 0;
-  uint64_t generation_ = 0;
-  bool stop_ = false;
+  // Written under mutex_; atomic so that spinning threads can watch them without it.
+  std::atomic<int64_t> chunks_done_{0};
+  std::atomic<uint64_t> generation_{0};
+  std::atomic<bool> stop_{false};
 };
 
 }  // namespace mcpose

@@ -1,6 +1,8 @@
 #include "core/parallel_for.h"
 
 #include <atomic>
+#include <chrono>
+#include <thread>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -24,6 +26,22 @@ TEST(ParallelFor, VisitsEveryIndexOnceForAnyThreadCount) {
       for (int64_t i = 0; i < n; ++i) EXPECT_EQ(hits[i].load(), 1) << "n " << n << " i " << i;
       EXPECT_EQ(bad_worker.load(), 0);
     }
+  }
+}
+
+// Jobs back to back (the workers still spinning) and after pauses longer than the spin (the
+// workers asleep on the condition variable) both visit every index exactly once.
+TEST(ParallelFor, BackToBackJobsAndJobsAfterSleep) {
+  ThreadPool pool(3);
+  std::vector<std::atomic<int>> hits(257);
+  int expected = 0;
+  for (int job = 0; job < 400; ++job) {
+    if (job % 100 == 99) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    pool.ParallelFor(static_cast<int64_t>(hits.size()), [&](int64_t b, int64_t e, int) {
+      for (int64_t i = b; i < e; ++i) ++hits[i];
+    }, /*chunks_per_thread=*/4);
+    ++expected;
+    for (size_t i = 0; i < hits.size(); ++i) ASSERT_EQ(hits[i].load(), expected) << "job " << job << " i " << i;
   }
 }
 
