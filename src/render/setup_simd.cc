@@ -146,7 +146,11 @@ void SetupSurvivorsImpl(const int32_t* packed, const ScreenVertex* vertices, con
   const hn::Rebind<int32_t, decltype(dd)> di;
   const size_t lanes = hn::Lanes(dd);
   constexpr size_t kMax = HWY_MAX_BYTES / sizeof(double);
-  HWY_ALIGN double x[3][kMax], y[3][kMax], z[3][kMax], bad[kMax];
+  static_assert(sizeof(ScreenVertex) == 3 * sizeof(float));
+  const int32_t* tri_i = reinterpret_cast<const int32_t*>(tri);
+  const int32_t* surv_i = reinterpret_cast<const int32_t*>(survivors);
+  const float* z_base = &vertices[0].z;
+  const auto three = hn::Set(di, 3), deferred = hn::Set(di, kSnappedDeferred);
   // The results in CompactTriangle's field order, a row of lanes per field: the integers
   // converted a vector at a time (exact for the lanes that are ready: they fit the SIMD rows,
   // so |value| < 2^30), A, B, C as their bits.
@@ -159,23 +163,34 @@ void SetupSurvivorsImpl(const int32_t* packed, const ScreenVertex* vertices, con
   const auto span_max = hn::Set(dd, kMaxSpanPx * kSubpixelOne), simd_span = hn::Set(dd, kMaxSimdSpanPx * kSubpixelOne);
   const auto round_up = hn::Set(dd, kSubpixelOne - 1), inv_sub = hn::Set(dd, 1.0 / kSubpixelOne);
   for (size_t first = 0; first < count; first += lanes) {
-    for (size_t j = 0; j < lanes; ++j) {  // gather; lanes past the end repeat the last survivor
-      const uint32_t* t = tri + 3 * static_cast<size_t>(survivors[std::min(first + j, count - 1)]);
-      bad[j] = 0;
-      for (int k = 0; k < 3; ++k) {
-        const int32_t p = packed[t[k]];
-        bad[j] = p == kSnappedDeferred ? 1.0 : bad[j];
-        x[k][j] = static_cast<double>(SnappedX(p)), y[k][j] = static_cast<double>(SnappedY(p));
-        z[k][j] = static_cast<double>(vertices[t[k]].z);
-      }
+    // The survivors' vertices, gathered; lanes past the end repeat the last survivor.
+    decltype(hn::Zero(di)) sv;
+    if (first + lanes <= count) {
+      sv = hn::LoadU(di, surv_i + first);
+    } else {
+      HWY_ALIGN int32_t tail[kMax];
+      for (size_t j = 0; j < lanes; ++j) tail[j] = surv_i[std::min(first + j, count - 1)];
+      sv = hn::Load(di, tail);
     }
-    const auto X0 = hn::Load(dd, x[0]), Y0 = hn::Load(dd, y[0]), Z0 = hn::Load(dd, z[0]);
-    auto X1 = hn::Load(dd, x[1]), Y1 = hn::Load(dd, y[1]), Z1 = hn::Load(dd, z[1]);
-    auto X2 = hn::Load(dd, x[2]), Y2 = hn::Load(dd, y[2]), Z2 = hn::Load(dd, z[2]);
+    const auto t3 = hn::Mul(sv, three);
+    const decltype(t3) v[3] = {hn::GatherIndex(di, tri_i, t3), hn::GatherIndex(di, tri_i, hn::Add(t3, hn::Set(di, 1))),
+                               hn::GatherIndex(di, tri_i, hn::Add(t3, hn::Set(di, 2)))};
+    decltype(hn::Zero(dd)) x[3], y[3], z[3];
+    auto n_deferred = hn::Zero(di);
+    for (int k = 0; k < 3; ++k) {
+      const auto p = hn::GatherIndex(di, packed, v[k]);
+      n_deferred = hn::Sub(n_deferred, hn::VecFromMask(di, hn::Eq(p, deferred)));
+      x[k] = hn::PromoteTo(dd, hn::ShiftRight<16>(p));
+      y[k] = hn::PromoteTo(dd, hn::ShiftRight<16>(hn::ShiftLeft<16>(p)));
+      z[k] = hn::PromoteTo(dd, hn::GatherIndex(df, z_base, hn::Mul(v[k], three)));
+    }
+    const auto X0 = x[0], Y0 = y[0], Z0 = z[0];
+    auto X1 = x[1], Y1 = y[1], Z1 = z[1];
+    auto X2 = x[2], Y2 = y[2], Z2 = z[2];
     // Orientation (exact: products below 2^34); back faces swap b and c when not culled.
     auto area = hn::Sub(hn::Mul(hn::Sub(X1, X0), hn::Sub(Y2, Y0)), hn::Mul(hn::Sub(Y1, Y0), hn::Sub(X2, X0)));
     const auto pos = hn::Gt(area, zero);
-    auto ok = hn::And(hn::Ne(area, zero), hn::Eq(hn::Load(dd, bad), zero));
+    auto ok = hn::And(hn::Ne(area, zero), hn::Eq(hn::PromoteTo(dd, n_deferred), zero));
     if (cull_backfaces) {
       ok = hn::AndNot(pos, ok);
     } else {
