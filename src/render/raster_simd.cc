@@ -187,7 +187,9 @@ HWY_INLINE int64_t FillWideRows(DF df, const CompactTriangle& t, float* zbuf, in
 // vector otherwise, with the span mask hoisted out of the row loop. Up to 4 vectors wide,
 // FillWideRows; wider ones FillRows.
 // Bit-identical at every width.
-int64_t FillTriangleRows(const CompactTriangle& t, float* zbuf, int stride) {
+int64_t FillTriangleRows(const CompactTriangle& triangle, float* zbuf, int stride) {
+  // A local copy: the row loops' stores cannot alias it, so its fields stay in registers.
+  const CompactTriangle t = triangle;
   const hn::ScalableTag<float> df;
 #if HWY_TARGET != HWY_SCALAR
   const int32_t span = t.x_hi - t.x_lo + 1;
