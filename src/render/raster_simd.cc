@@ -118,23 +118,28 @@ HWY_INLINE int64_t FillBlocks(DF df, const CompactTriangle& t, float* zbuf, int 
   const auto fB = hn::Set(df, t.B), fC = hn::Set(df, t.C);
   const auto one = hn::Set(df, 1.0f);
   const auto minus_one = hn::Set(di, -1);  // E >= 0  <=>  E > -1 (integers)
-  int64_t covered = 0;
+  // Each lane's row, and the rows' end; covered pixels counted per lane (no lane exceeds the
+  // triangle's pixel count, far below 2^31).
+  auto y_lane = hn::Add(ly, hn::Set(di, t.y_lo));
+  const auto y_end = hn::Set(di, t.y_hi + 1), rows_step = hn::Set(di, kRows);
+  auto covered = hn::Zero(di);
   float* rows[kRows];
-  for (int32_t y = t.y_lo; y <= t.y_hi; y += kRows) {
-    for (int32_t r = 0; r < kRows; ++r) {
-      rows[r] = zbuf + static_cast<size_t>(std::min(y + r, t.y_hi)) * stride + t.x_lo;
-    }
-    const auto in_rows = hn::Lt(ly, hn::Set(di, t.y_hi - y + 1));
-    const auto inside = hn::And(hn::And(in_span, in_rows), hn::Gt(hn::Or(hn::Or(w[0], w[1]), w[2]), minus_one));
-    covered += static_cast<int64_t>(hn::CountTrue(di, inside));
-    const auto row_c = hn::Add(hn::Mul(fB, hn::ConvertTo(df, hn::Add(ly, hn::Set(di, y)))), fC);
+  float* row = zbuf + static_cast<size_t>(t.y_lo) * stride + t.x_lo;
+  for (int32_t y = t.y_lo; y <= t.y_hi; y += kRows, row += static_cast<size_t>(kRows) * stride) {
+    rows[0] = row;
+    for (int32_t r = 1; r < kRows; ++r) rows[r] = y + r <= t.y_hi ? rows[r - 1] + stride : rows[r - 1];
+    const auto inside = hn::And(hn::And(in_span, hn::Lt(y_lane, y_end)),
+                                hn::Gt(hn::Or(hn::Or(w[0], w[1]), w[2]), minus_one));
+    covered = hn::Sub(covered, hn::VecFromMask(di, inside));
+    const auto row_c = hn::Add(hn::Mul(fB, hn::ConvertTo(df, y_lane)), fC);
     const auto z = hn::Div(one, hn::Add(ax, row_c));
     const auto dst = LoadBlock<kW>(df, rows);
     const auto keep = hn::And(hn::RebindMask(df, inside), hn::Lt(z, dst));
     StoreBlock<kW>(df, hn::IfThenElse(keep, z, dst), rows);
     for (int k = 0; k < 3; ++k) w[k] = hn::Add(w[k], block_step[k]);
+    y_lane = hn::Add(y_lane, rows_step);
   }
-  return covered;
+  return hn::GetLane(hn::SumOfLanes(di, covered));
 }
 
 // Triangles at most kVecs vectors wide (kVecs 2 to 4), a row at a time: the row's kVecs vectors
@@ -161,7 +166,7 @@ HWY_INLINE int64_t FillWideRows(DF df, const CompactTriangle& t, float* zbuf, in
   }
   const auto one = hn::Set(df, 1.0f);
   const auto minus_one = hn::Set(di, -1);  // E >= 0  <=>  E > -1 (integers)
-  int64_t covered = 0;
+  auto covered = hn::Zero(di);  // per lane, as in FillBlocks
   for (int32_t y = t.y_lo; y <= t.y_hi; ++y) {
     float* row = zbuf + static_cast<size_t>(y) * stride + t.x_lo;
     // row_c as the scalar kernel rounds it: B y + C in float, then A x + row_c.
@@ -169,7 +174,7 @@ HWY_INLINE int64_t FillWideRows(DF df, const CompactTriangle& t, float* zbuf, in
     auto e0 = w[0], e1 = w[1], e2 = w[2];
     for (int j = 0; j < kVecs; ++j) {
       const auto inside = hn::And(in_span[j], hn::Gt(hn::Or(hn::Or(e0, e1), e2), minus_one));
-      covered += static_cast<int64_t>(hn::CountTrue(di, inside));
+      covered = hn::Sub(covered, hn::VecFromMask(di, inside));
       const auto z = hn::Div(one, hn::Add(ax[j], row_c));
       const auto dst = hn::LoadU(df, row + j * kLanes);
       const auto keep = hn::And(hn::RebindMask(df, inside), hn::Lt(z, dst));
@@ -178,7 +183,7 @@ HWY_INLINE int64_t FillWideRows(DF df, const CompactTriangle& t, float* zbuf, in
     }
     for (int k = 0; k < 3; ++k) w[k] = hn::Add(w[k], hn::Set(di, t.step_y[k]));
   }
-  return covered;
+  return hn::GetLane(hn::SumOfLanes(di, covered));
 }
 #endif  // HWY_TARGET != HWY_SCALAR
 
