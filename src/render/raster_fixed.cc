@@ -217,13 +217,15 @@ void RasterizeDepthFixedPoint(std::span<const ScreenVertex> vertices,
     snapped->ready.resize(std::max(snapped->ready.size(), kept));
     SetupSurvivors(*snapped, vertices, triangles, params, std::span(snapped->survivors.data(), kept),
                    snapped->setups.data(), snapped->ready.data());
+    // The ready triangles' rows, then the rest (culled, float path or a deferred vertex) in the
+    // per-triangle stage: the z-buffer keeps the nearest depth, so the order does not matter.
+    if (rows == RowKernel::kSimd) {
+      FillCompactBatchSimd(snapped->setups.data(), snapped->ready.data(), kept, zbuf, stride, &s);
+    }
     for (size_t j = 0; j < kept; ++j) {
       if (snapped->ready[j]) {
-        const CompactTriangle& ct = snapped->setups[j];
-        CountFill(rows == RowKernel::kSimd ? FillCompactSimd(ct, zbuf, stride)
-                                           : FillTriangleScalar(Widen(ct), zbuf, stride),
-                  &s);
-      } else {  // culled, float path or a deferred vertex: the per-triangle stage decides
+        if (rows != RowKernel::kSimd) CountFill(FillTriangleScalar(Widen(snapped->setups[j]), zbuf, stride), &s);
+      } else {
         RasterizeOne(vertices, triangles, snapped->survivors[j], params, zbuf, stride, rows, &s,
                      snapped->packed.data());
       }

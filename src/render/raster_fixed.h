@@ -93,6 +93,10 @@ int64_t FillTriangleScalar(const FixedTriangle& t, float* zbuf, int stride);
 int64_t FillTriangleSimd(const FixedTriangle& t, float* zbuf, int stride);
 // FillTriangleSimd of Widen(t): the same kernel, without the conversion.
 int64_t FillCompactSimd(const CompactTriangle& t, float* zbuf, int stride);
+// FillCompactSimd of every t[j] with ready[j] != 0, in one dispatch; each counted in *stats as
+// rasterized (with its fragments) or, covering no pixel centre, culled between pixels.
+void FillCompactBatchSimd(const CompactTriangle* t, const uint8_t* ready, size_t n, float* zbuf, int stride,
+                          RasterStats* stats);
 // Sets the pixels of `rect` (box-relative, row stride `stride`) to +infinity, whole vectors
 // at a time (Highway, runtime-dispatched); touches nothing outside the rect.
 void ClearDepthRectSimd(float* zbuf, int stride, const PixelRect& rect);

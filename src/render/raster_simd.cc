@@ -215,6 +215,21 @@ int64_t FillTriangleRows(const CompactTriangle& triangle, float* zbuf, int strid
   return FillRows(df, t, zbuf, stride);
 }
 
+void FillBatch(const CompactTriangle* t, const uint8_t* ready, size_t n, float* zbuf, int stride,
+               RasterStats* stats) {
+  int64_t rasterized = 0, between = 0, fragments = 0;
+  for (size_t j = 0; j < n; ++j) {
+    if (!ready[j]) continue;
+    const int64_t covered = FillTriangleRows(t[j], zbuf, stride);
+    rasterized += covered != 0;
+    between += covered == 0;
+    fragments += covered;
+  }
+  stats->rasterized += rasterized;
+  stats->culled_between_pixels += between;
+  stats->fragments += fragments;
+}
+
 void ClearRect(float* zbuf, int stride, int x0, int y0, int x1, int y1) {
   const hn::ScalableTag<float> df;
   const int lanes = static_cast<int>(hn::Lanes(df));
@@ -242,6 +257,14 @@ HWY_EXPORT(FillTriangleRows);
 
 int64_t FillCompactSimd(const CompactTriangle& t, float* zbuf, int stride) {
   return HWY_DYNAMIC_DISPATCH(FillTriangleRows)(t, zbuf, stride);
+}
+
+HWY_EXPORT(FillBatch);
+
+void FillCompactBatchSimd(const CompactTriangle* t, const uint8_t* ready, size_t n, float* zbuf, int stride,
+                          RasterStats* stats) {
+  if (n == 0) return;
+  HWY_DYNAMIC_DISPATCH(FillBatch)(t, ready, n, zbuf, stride, stats);
 }
 
 HWY_EXPORT(ClearRect);
