@@ -114,15 +114,21 @@ void RasterCores::Score(const ScoreJob& job, const filter::ParticleSet& particle
       // whole box), render, and count inliers in that rect: the same counts as the whole box.
       const Eigen::Matrix3f R = particles.R_cam_obj[i].cast<float>();
       const Eigen::Vector3f t = particles.t_cam_obj_m[i].cast<float>();
-      if (simd) {
+      // The batched setup's snapped vertices (fixed, simd) come with the projection.
+      const bool snap = job.batched_setup && backend_ != RasterBackend::kScalar;
+      render::PixelRect cover;
+      if (simd && snap) {
+        cover = render::ProjectSnapBoundSimd(mesh.vertices_m, R, t, params, vertices, &s.snapped);
+      } else if (simd) {
         render::ProjectVerticesSimd(mesh.vertices_m, R, t, params, vertices);
+        cover = render::CoverBoundSimd(vertices, box.rect);
       } else {
         render::ProjectVertices(mesh.vertices_m, R, t, params, vertices);
+        cover = render::CoverBound(vertices, box.rect);
+        if (snap) render::SnapVertices(vertices, params, &s.snapped);
       }
       const int stride = box.rect.width();
       s.zbuf.resize(std::max(s.zbuf.size(), static_cast<size_t>(box.rect.area()) + render::kSimdPadFloats));
-      render::PixelRect cover =
-          simd ? render::CoverBoundSimd(vertices, box.rect) : render::CoverBound(vertices, box.rect);
       if (job.inlier_mode == InlierMode::k3D) cover = box.rect;
       // Box-relative cover rect.
       const render::PixelRect rel =
@@ -144,11 +150,7 @@ void RasterCores::Score(const ScoreJob& job, const filter::ParticleSet& particle
           const render::RowKernel rows =
               simd ? render::RowKernel::kSimd : render::RowKernel::kScalar;
           const render::ClusterSet* clusters = job.box_clusters.empty() ? nullptr : job.box_clusters[particles.box[i]];
-          render::SnappedVertices* snapped = nullptr;
-          if (job.batched_setup) {
-            render::SnapVertices(vertices, params, &s.snapped);
-            snapped = &s.snapped;
-          }
+          render::SnappedVertices* snapped = snap ? &s.snapped : nullptr;
           if (!clusters) {
             render::RasterizeDepthFixedPoint(vertices, mesh.triangles, params, s.zbuf.data(), &s.stats, rows,
                                              snapped);

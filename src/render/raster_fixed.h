@@ -118,6 +118,11 @@ struct SnappedVertices {
   std::vector<uint8_t> ready;
 };
 void SnapVertices(std::span<const ScreenVertex> vertices, const RasterParams& params, SnappedVertices* out);
+// ProjectVerticesSimd, SnapVertices and CoverBoundSimd(out, params.box) in one pass over the
+// vertices (render/project_simd.cc): the same vertices, packed values and rect (tested).
+PixelRect ProjectSnapBoundSimd(std::span<const Eigen::Vector3f> vertices_m, const Eigen::Matrix3f& R,
+                               const Eigen::Vector3f& t, const RasterParams& params, std::span<ScreenVertex> out,
+                               SnappedVertices* snapped);
 // One vertex, scalar: what SnapVertices stores for it (the reference and the vector tail).
 inline int32_t SnapVertexScalar(const ScreenVertex& v, float ox, float oy, float z_near) {
   const float du = v.u - ox, dv = v.v - oy;

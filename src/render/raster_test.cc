@@ -329,7 +329,8 @@ TEST(RasterSimd, NarrowTrianglesBitIdenticalOnEveryTarget) {
 
 // The SIMD vertex stage against the scalar one on every target: random rotations, translations
 // and vertex counts (whole vectors and tails), bit-identical screen vertices and cover rects,
-// also with a vertex at the camera centre (infinite u, v: the whole box) and none at all.
+// also with a vertex at the camera centre (infinite u, v: the whole box) and none at all; and
+// the fused projection, snap and bound pass against the three.
 TEST(ProjectSimd, BitIdenticalToScalarOnEveryTarget) {
   std::mt19937_64 gen(17);
   std::uniform_real_distribution<float> coord(-0.1f, 0.1f), angle(-3.f, 3.f);
@@ -343,6 +344,8 @@ TEST(ProjectSimd, BitIdenticalToScalarOnEveryTarget) {
           Eigen::AngleAxisf(angle(gen), Eigen::Vector3f(coord(gen), coord(gen), 1.f).normalized()).toRotationMatrix();
       Eigen::Vector3f t(coord(gen), coord(gen), 0.6f + coord(gen));
       if (trial % 10 == 9 && !v.empty()) t = -(R * v[v.size() / 2]);  // a vertex at the camera centre
+      if (trial % 10 == 4) t.z() = p.z_near_m;  // vertices on both sides of the near plane
+      if (trial % 10 == 6) t.x() = 1.3f;        // vertices beyond the snap band (u ~ 2300 px off)
       std::vector<ScreenVertex> a(v.size()), b(v.size());
       ProjectVertices(v, R, t, p, a);
       ProjectVerticesSimd(v, R, t, p, b);
@@ -354,6 +357,20 @@ TEST(ProjectSimd, BitIdenticalToScalarOnEveryTarget) {
       if (trial % 10 == 9 && !v.empty()) {
         EXPECT_EQ(rb.area(), p.box.area()) << "not finite: the whole box";
       }
+      // The fused pass: the same vertices, SnapVertexScalar's packed values, the same rect.
+      std::vector<ScreenVertex> c(v.size());
+      SnappedVertices snapped;
+      const PixelRect rc = ProjectSnapBoundSimd(v, R, t, p, c, &snapped);
+      ASSERT_EQ(0, std::memcmp(a.data(), c.data(), a.size() * sizeof(ScreenVertex)))
+          << hwy::TargetName(target) << " trial " << trial;
+      ASSERT_EQ(snapped.packed.size(), v.size());
+      for (size_t i = 0; i < v.size(); ++i) {
+        ASSERT_EQ(snapped.packed[i], SnapVertexScalar(a[i], static_cast<float>(p.box.x0),
+                                                      static_cast<float>(p.box.y0), p.z_near_m))
+            << hwy::TargetName(target) << " trial " << trial << " vertex " << i;
+      }
+      EXPECT_TRUE(ra.x0 == rc.x0 && ra.y0 == rc.y0 && ra.x1 == rc.x1 && ra.y1 == rc.y1)
+          << hwy::TargetName(target) << " trial " << trial;
     }
   }
   hwy::SetSupportedTargetsForTest(0);

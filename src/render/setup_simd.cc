@@ -1,7 +1,7 @@
-// Batched triangle setup of the fixed-point raster core (see raster_fixed.h): vertices snapped
-// to the 1/16-pixel grid once per sample, then triangles classified a vector at a time with
-// Highway, compiled for every target Highway knows here and dispatched at run time (once per
-// call, not per triangle). SetupFixedTriangle (raster_fixed.cc) is its reference: every
+// Batched triangle setup of the fixed-point raster core (see raster_fixed.h): with the vertices
+// snapped to the 1/16-pixel grid once per sample (SnapVertices, project_simd.cc), triangles
+// classified a vector at a time with Highway, compiled for every target Highway knows here and
+// dispatched at run time (once per call, not per triangle). SetupFixedTriangle (raster_fixed.cc) is its reference: every
 // triangle this pass decides gets the reason SetupFixedTriangle gives it, and every other
 // triangle is left to the per-triangle stage (SetupBatchedTriangle, raster_fixed.cc).
 #include <algorithm>
@@ -19,38 +19,6 @@ HWY_BEFORE_NAMESPACE();
 namespace mcpose::render {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
-
-// Round half to even of |f| < 2^22 by the 1.5 * 2^23 trick: exact on every target, and equal
-// to std::lrint (round to nearest even, the default mode) that SetupFixedTriangle uses. Larger
-// values are outside kSnapBandPx (2^15 sub-pixels) and deferred, so their result is unused.
-template <class DF, class V>
-HWY_INLINE auto RoundToInt(DF df, V f) {
-  const hn::RebindToSigned<DF> di;
-  const auto magic = hn::Set(df, 12582912.0f);  // 1.5 * 2^23
-  return hn::ConvertTo(di, hn::Sub(hn::Add(f, magic), magic));
-}
-
-void SnapVerticesImpl(const ScreenVertex* v, size_t n, float ox, float oy, float z_near, int32_t* packed) {
-  const hn::ScalableTag<float> df;
-  const hn::RebindToSigned<decltype(df)> di;
-  const size_t lanes = hn::Lanes(df);
-  const auto vox = hn::Set(df, ox), voy = hn::Set(df, oy), sub = hn::Set(df, static_cast<float>(kSubpixelOne));
-  const auto band = hn::Set(df, kSnapBandPx), near = hn::Set(df, z_near);
-  const auto low = hn::Set(di, 0xffff), deferred = hn::Set(di, kSnappedDeferred);
-  const float* base = &v[0].u;
-  size_t i = 0;
-  for (; i + lanes <= n; i += lanes) {
-    decltype(hn::Zero(df)) u, w, z;
-    hn::LoadInterleaved3(df, base + 3 * i, u, w, z);
-    const auto du = hn::Sub(u, vox), dv = hn::Sub(w, voy);
-    // !(|d| < band) and !(z >= near): NaN coordinates and depths are deferred.
-    const auto fast = hn::And(hn::And(hn::Lt(hn::Abs(du), band), hn::Lt(hn::Abs(dv), band)), hn::Ge(z, near));
-    const auto X = RoundToInt(df, hn::Mul(du, sub)), Y = RoundToInt(df, hn::Mul(dv, sub));
-    const auto p = hn::Or(hn::ShiftLeft<16>(X), hn::And(Y, low));
-    hn::StoreU(hn::IfThenElse(hn::RebindMask(di, fast), p, deferred), di, packed + i);
-  }
-  for (; i < n; ++i) packed[i] = SnapVertexScalar(v[i], ox, oy, z_near);  // the tail
-}
 
 size_t ClassifyTrianglesImpl(const int32_t* packed, const uint32_t* tri, size_t n, int32_t box_w, int32_t box_h,
                              bool cull_backfaces, RasterStats* stats, uint32_t* survivors) {
@@ -253,7 +221,6 @@ HWY_AFTER_NAMESPACE();
 #if HWY_ONCE
 namespace mcpose::render {
 
-HWY_EXPORT(SnapVerticesImpl);
 HWY_EXPORT(ClassifyTrianglesImpl);
 HWY_EXPORT(SetupSurvivorsImpl);
 
@@ -264,14 +231,6 @@ void SetupSurvivors(const SnappedVertices& snapped, std::span<const ScreenVertex
   HWY_DYNAMIC_DISPATCH(SetupSurvivorsImpl)(snapped.packed.data(), vertices.data(), triangles.data()->data(),
                                           survivors.data(), survivors.size(), params.box.width(),
                                           params.box.height(), params.cull_backfaces, out, ready);
-}
-
-void SnapVertices(std::span<const ScreenVertex> vertices, const RasterParams& params, SnappedVertices* out) {
-  const size_t n = vertices.size();
-  out->packed.resize(n);
-  if (n == 0) return;
-  HWY_DYNAMIC_DISPATCH(SnapVerticesImpl)(vertices.data(), n, static_cast<float>(params.box.x0),
-                                         static_cast<float>(params.box.y0), params.z_near_m, out->packed.data());
 }
 
 size_t ClassifyTriangles(const SnappedVertices& snapped, std::span<const std::array<uint32_t, 3>> triangles,
