@@ -5,10 +5,31 @@
 // triangle this pass decides gets the reason SetupFixedTriangle gives it, and every other
 // triangle is left to the per-triangle stage (SetupBatchedTriangle, raster_fixed.cc).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 
 #include "render/raster_fixed.h"
+
+#ifndef MCPOSE_RENDER_SETUP_SIMD_TABLES_
+#define MCPOSE_RENDER_SETUP_SIMD_TABLES_
+namespace mcpose::render::detail {
+// For each mask of up to 8 lanes, the positions of its set lanes in order, one per nibble
+// (the rest zero): the index table of CompressIota below.
+constexpr std::array<uint32_t, 256> MakeCompressNibbles() {
+  std::array<uint32_t, 256> table{};
+  for (uint32_t mask = 0; mask < 256; ++mask) {
+    uint32_t packed = 0, k = 0;
+    for (uint32_t lane = 0; lane < 8; ++lane) {
+      if (mask & (1u << lane)) packed |= lane << (4 * k++);
+    }
+    table[mask] = packed;
+  }
+  return table;
+}
+inline constexpr std::array<uint32_t, 256> kCompressNibbles = MakeCompressNibbles();
+}  // namespace mcpose::render::detail
+#endif  // MCPOSE_RENDER_SETUP_SIMD_TABLES_
 
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "render/setup_simd.cc"
@@ -19,6 +40,27 @@ HWY_BEFORE_NAMESPACE();
 namespace mcpose::render {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
+
+// hn::Compress(v, keep) for the lanes that matter here (the first CountTrue(keep); the others
+// are unspecified). With 4 or 8 lanes, from the static nibble table: Highway's own table for
+// them is a constexpr local array that GCC copies to the stack at every call (1 KiB with
+// 8 lanes, a third of this function's instructions on the tomato can). AVX-512 compresses
+// natively.
+template <class DI>
+HWY_INLINE hn::Vec<DI> CompressLanes(DI di, hn::Vec<DI> v, hn::Mask<DI> keep) {
+  constexpr size_t kLanes = hn::MaxLanes(DI());
+  if constexpr (kLanes == 4 || kLanes == 8) {
+    const hn::RebindToUnsigned<DI> du;
+    uint8_t bits[8] = {0};
+    hn::StoreMaskBits(di, keep, bits);
+    const auto packed = hn::Set(du, detail::kCompressNibbles[bits[0]]);
+    const auto shifts = hn::Mul(hn::Iota(du, 0), hn::Set(du, 4));
+    const auto idx = hn::And(hn::Shr(packed, shifts), hn::Set(du, kLanes - 1));
+    return hn::TableLookupLanes(v, hn::IndicesFromVec(di, hn::BitCast(di, idx)));
+  } else {
+    return hn::Compress(v, keep);
+  }
+}
 
 size_t ClassifyTrianglesImpl(const int32_t* packed, const uint32_t* tri, size_t n, int32_t box_w, int32_t box_h,
                              bool cull_backfaces, RasterStats* stats, uint32_t* survivors) {
@@ -92,7 +134,7 @@ size_t ClassifyTrianglesImpl(const int32_t* packed, const uint32_t* tri, size_t 
     // CompressStore's masked-store form (vpcompressd to memory) is slow on
     // AMD Zen 4, where it was 28 % of this function on the tomato can.
     const auto keep = hn::AndNot(decided, valid);
-    hn::StoreU(hn::Compress(t, keep), di, reinterpret_cast<int32_t*>(survivors) + kept);
+    hn::StoreU(CompressLanes(di, t, keep), di, reinterpret_cast<int32_t*>(survivors) + kept);
     kept += hn::CountTrue(di, keep);
   }
   stats->culled_backface += backface_n;
