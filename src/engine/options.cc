@@ -72,7 +72,7 @@ const char* RasterBackendName(RasterBackend backend) {
 }
 
 std::string SimdTargets() { return render::SimdTargetsAvailable(); }
-std::string ActiveSimdTarget() { return render::BestSimdTarget(); }
+std::string ActiveSimdTarget() { return render::DispatchedSimdTarget(); }
 bool LimitSimdTarget(const std::string& name) { return render::LimitSimdTargets(name); }
 
 }  // namespace mcpose

@@ -215,6 +215,8 @@ int64_t FillTriangleRows(const CompactTriangle& triangle, float* zbuf, int strid
   return FillRows(df, t, zbuf, stride);
 }
 
+const char* TargetNameImpl() { return hwy::TargetName(HWY_TARGET); }
+
 void FillBatch(const CompactTriangle* t, const uint8_t* ready, size_t n, float* zbuf, int stride,
                RasterStats* stats) {
   int64_t rasterized = 0, between = 0, fragments = 0;
@@ -278,25 +280,39 @@ int64_t FillTriangleSimd(const FixedTriangle& t, float* zbuf, int stride) {
   return FillCompactSimd(Compact(t), zbuf, stride);
 }
 
+namespace {
+
+// The supported targets. Highway 1.0's SupportedTargets() re-chooses the dispatch target from
+// every target the CPU has, undoing DisableTargets (a --simd-target AVX2 run then dispatched
+// to AVX-512 after printing its targets); the dispatch target is chosen again here from the
+// enabled ones.
+std::vector<int64_t> Targets() {
+  std::vector<int64_t> targets = hwy::SupportedAndGeneratedTargets();
+  hwy::GetChosenTarget().Update(hwy::SupportedTargets());
+  return targets;
+}
+
+}  // namespace
+
+HWY_EXPORT(TargetNameImpl);
+
 std::string SimdTargetsAvailable() {
   std::string out;
-  for (int64_t target : hwy::SupportedAndGeneratedTargets()) {
+  for (int64_t target : Targets()) {
     if (!out.empty()) out += ' ';
     out += hwy::TargetName(target);
   }
   return out;
 }
 
-std::string BestSimdTarget() {
-  const std::vector<int64_t> targets = hwy::SupportedAndGeneratedTargets();
-  return targets.empty() ? std::string("none") : hwy::TargetName(targets.front());
-}
+std::string DispatchedSimdTarget() { return HWY_DYNAMIC_DISPATCH(TargetNameImpl)(); }
 
 bool LimitSimdTargets(const std::string& name) {
-  for (int64_t target : hwy::SupportedAndGeneratedTargets()) {
+  for (int64_t target : Targets()) {
     if (name != hwy::TargetName(target)) continue;
     // Better targets have lower bits: disable every bit below this one.
     hwy::DisableTargets(target - 1);
+    Targets();
     return true;
   }
   return false;

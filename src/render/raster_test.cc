@@ -404,5 +404,23 @@ TEST(RasterSimd, ClearDepthRectSetsExactlyTheRect) {
   hwy::SetSupportedTargetsForTest(0);
 }
 
+// --simd-target: the kernels dispatch to the limited target, also after the targets have been
+// listed (Highway 1.0's SupportedTargets() re-chose the best target, so an "AVX2" run on an
+// AVX-512 machine ran the AVX-512 kernels).
+TEST(SimdTargets, LimitHoldsAfterTheTargetsAreListed) {
+  const std::vector<int64_t> targets = hwy::SupportedAndGeneratedTargets();
+  ASSERT_FALSE(targets.empty());
+  EXPECT_EQ(DispatchedSimdTarget(), hwy::TargetName(targets.front()));
+  for (int64_t target : targets) {  // best first: each limit is within the previous one
+    ASSERT_TRUE(LimitSimdTargets(hwy::TargetName(target)));
+    EXPECT_EQ(SimdTargetsAvailable().rfind(hwy::TargetName(target), 0), 0u) << SimdTargetsAvailable();
+    EXPECT_EQ(DispatchedSimdTarget(), hwy::TargetName(target));
+  }
+  EXPECT_FALSE(LimitSimdTargets("NO_SUCH_TARGET"));
+  hwy::DisableTargets(0);  // every target again, for the other tests
+  SimdTargetsAvailable();
+  EXPECT_EQ(DispatchedSimdTarget(), hwy::TargetName(targets.front()));
+}
+
 }  // namespace
 }  // namespace mcpose::render
