@@ -143,6 +143,49 @@ size_t ClassifyTrianglesImpl(const int32_t* packed, const uint32_t* tri, size_t 
   return kept;
 }
 
+// Writes lane j of the 16 field rows o[f] to out[j], for every lane, by 4 x 4 transposes
+// within each 128-bit block; false (nothing written) where the lanes are not 4 or 8 int32.
+template <class DI, size_t kMax>
+HWY_INLINE bool StoreTransposed(DI di, const int32_t (&o)[16][kMax], CompactTriangle* out) {
+#if HWY_TARGET == HWY_SCALAR
+  (void)di, (void)o, (void)out;
+  return false;
+#else
+  constexpr size_t kLanes = hn::MaxLanes(DI());
+  if constexpr (kLanes == 4 || kLanes == 8) {
+    static_assert(sizeof(CompactTriangle) == 16 * sizeof(int32_t));
+    const hn::Repartition<int64_t, DI> d64;
+    int32_t* dst = reinterpret_cast<int32_t*>(out);
+    for (int g = 0; g < 4; ++g) {
+      const auto a = hn::Load(di, o[4 * g]), b = hn::Load(di, o[4 * g + 1]);
+      const auto c = hn::Load(di, o[4 * g + 2]), d = hn::Load(di, o[4 * g + 3]);
+      const auto ab_lo = hn::BitCast(d64, hn::InterleaveLower(di, a, b));
+      const auto ab_hi = hn::BitCast(d64, hn::InterleaveUpper(di, a, b));
+      const auto cd_lo = hn::BitCast(d64, hn::InterleaveLower(di, c, d));
+      const auto cd_hi = hn::BitCast(d64, hn::InterleaveUpper(di, c, d));
+      // Row r holds lane r's fields 4g..4g+3 (and lane r + 4's in the upper block).
+      const decltype(a) rows[4] = {hn::BitCast(di, hn::InterleaveLower(d64, ab_lo, cd_lo)),
+                                   hn::BitCast(di, hn::InterleaveUpper(d64, ab_lo, cd_lo)),
+                                   hn::BitCast(di, hn::InterleaveLower(d64, ab_hi, cd_hi)),
+                                   hn::BitCast(di, hn::InterleaveUpper(d64, ab_hi, cd_hi))};
+      for (int r = 0; r < 4; ++r) {
+        if constexpr (kLanes == 4) {
+          hn::StoreU(rows[r], di, dst + 16 * r + 4 * g);
+        } else {
+          const hn::Half<DI> dh;
+          hn::StoreU(hn::LowerHalf(dh, rows[r]), dh, dst + 16 * r + 4 * g);
+          hn::StoreU(hn::UpperHalf(dh, rows[r]), dh, dst + 16 * (r + 4) + 4 * g);
+        }
+      }
+    }
+    return true;
+  } else {
+    (void)di, (void)o, (void)out;
+    return false;
+  }
+#endif
+}
+
 // SetupSnappedTriangle for many triangles, a vector of doubles at a time: the same integer
 // tests and the same double operations in the same order, lane by lane, so every triangle it
 // sets up is bit-identical to the scalar setup, written in CompactTriangle form. Lanes that
@@ -247,6 +290,10 @@ void SetupSurvivorsImpl(const int32_t* packed, const ScreenVertex* vertices, con
     hn::Store(hn::DemoteTo(di, x_lo), di, o[0]), hn::Store(hn::DemoteTo(di, x_hi), di, o[1]);
     hn::Store(hn::DemoteTo(di, y_lo), di, o[2]), hn::Store(hn::DemoteTo(di, y_hi), di, o[3]);
     hn::Store(hn::DemoteTo(di, hn::IfThenElseZero(hn::And(ok, fits), one)), di, o_ready);
+    if (first + lanes <= count && StoreTransposed(di, o, out + first)) {
+      for (size_t j = 0; j < lanes; ++j) ready[first + j] = o_ready[j] != 0;
+      continue;
+    }
     for (size_t j = 0; j < lanes && first + j < count; ++j) {
       ready[first + j] = o_ready[j] != 0;
       if (!o_ready[j]) continue;
