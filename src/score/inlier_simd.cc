@@ -42,15 +42,19 @@ HWY_INLINE void CountVector(DF df, const float* zr, const float* zo, int x, floa
 }
 
 // Whole vectors of the full width: per-lane counts (a lane's mask is -1 where true), summed
-// once per rect. Only the lanes in `lanes_in` count.
-template <class DF, class VI, class M>
+// once per rect. Only the lanes in `lanes_in` count; without it (kMasked false), every lane.
+template <bool kMasked, class DF, class VI, class M>
 HWY_INLINE void AccumulateVector(DF df, const float* zr, const float* zo, int x, float eps_m, M lanes_in, VI* drawn,
                                  VI* inliers, VI* occluded) {
   const hn::RebindToSigned<DF> di;
-  const PixelMasks<DF> m = TestVector(df, zr, zo, x, eps_m);
-  *drawn = hn::Sub(*drawn, hn::VecFromMask(di, hn::RebindMask(di, hn::And(lanes_in, m.drawn))));
-  *inliers = hn::Sub(*inliers, hn::VecFromMask(di, hn::RebindMask(di, hn::And(lanes_in, m.inlier))));
-  *occluded = hn::Sub(*occluded, hn::VecFromMask(di, hn::RebindMask(di, hn::And(lanes_in, m.occluded))));
+  PixelMasks<DF> m = TestVector(df, zr, zo, x, eps_m);
+  if constexpr (kMasked) {
+    m.drawn = hn::And(lanes_in, m.drawn), m.inlier = hn::And(lanes_in, m.inlier);
+    m.occluded = hn::And(lanes_in, m.occluded);
+  }
+  *drawn = hn::Sub(*drawn, hn::VecFromMask(di, hn::RebindMask(di, m.drawn)));
+  *inliers = hn::Sub(*inliers, hn::VecFromMask(di, hn::RebindMask(di, m.inlier)));
+  *occluded = hn::Sub(*occluded, hn::VecFromMask(di, hn::RebindMask(di, m.occluded)));
 }
 
 void CountRect(const float* rendered, const float* observed, int stride, int x0, int y0, int x1, int y1,
@@ -65,7 +69,6 @@ void CountRect(const float* rendered, const float* observed, int stride, int x0,
   // more per row (the tail vector).
   auto v_drawn = hn::Zero(di), v_inliers = hn::Zero(di), v_occluded = hn::Zero(di);
   int64_t drawn = 0, inliers = 0, occluded = 0;
-  const auto all = hn::FirstN(df, static_cast<size_t>(lanes));
   // A row at least one vector wide ends in one more vector ending at x1, its lanes before the
   // tail masked off (never read past x1): the lanes of that vector still to count.
   const int tail = (x1 - x0) % lanes;
@@ -74,9 +77,11 @@ void CountRect(const float* rendered, const float* observed, int stride, int x0,
     const float* zr = rendered + static_cast<size_t>(y) * stride;
     const float* zo = observed + static_cast<size_t>(y) * stride;
     int x = x0;
-    for (; x + lanes <= x1; x += lanes) AccumulateVector(df, zr, zo, x, eps_m, all, &v_drawn, &v_inliers, &v_occluded);
+    for (; x + lanes <= x1; x += lanes) {
+      AccumulateVector<false>(df, zr, zo, x, eps_m, tail_lanes, &v_drawn, &v_inliers, &v_occluded);
+    }
     if (x > x0 && x < x1) {
-      AccumulateVector(df, zr, zo, x1 - lanes, eps_m, tail_lanes, &v_drawn, &v_inliers, &v_occluded);
+      AccumulateVector<true>(df, zr, zo, x1 - lanes, eps_m, tail_lanes, &v_drawn, &v_inliers, &v_occluded);
       continue;
     }
     // A row narrower than a vector: narrower whole vectors (never past x1), then one pixel at a time.
