@@ -97,20 +97,37 @@ struct Snapper {
   }
 };
 
-// Whole vectors of vertices; returns how many were done (the caller does the rest).
-size_t ProjectImpl(const float* xyz, size_t n, const float* R, const float* t, float fx, float fy, float cx,
-                   float cy, float* uvz) {
+// The vertex pass over whole vectors of vertices: projected into uvz and, with kSnapBound,
+// snapped into packed with their bounds in out[0..3] and in *finite whether all were finite.
+// Returns how many were done (the caller does the rest).
+template <bool kSnapBound>
+HWY_INLINE size_t VertexPass(const float* xyz, size_t n, const float* R, const float* t, float fx, float fy,
+                             float cx, float cy, float ox, float oy, float z_near, float* uvz, int32_t* packed,
+                             float* out, bool* finite) {
   const hn::ScalableTag<float> df;
+  const hn::RebindToSigned<decltype(df)> di;
   const size_t lanes = hn::Lanes(df);
   const Projector<decltype(df)> proj(df, R, t, fx, fy, cx, cy);
+  const Snapper<decltype(df)> snap(df, ox, oy, z_near);
+  Bounds<decltype(df)> bounds(df);
   size_t i = 0;
   for (; i + lanes <= n; i += lanes) {
     decltype(hn::Zero(df)) x, y, z, u, v, pz;
     hn::LoadInterleaved3(df, xyz + 3 * i, x, y, z);
     proj.Project(x, y, z, u, v, pz);
     hn::StoreInterleaved3(u, v, pz, df, uvz + 3 * i);
+    if constexpr (kSnapBound) {
+      hn::StoreU(snap.Snap(df, u, v, pz), di, packed + i);
+      bounds.Add(u, v);
+    }
   }
+  if constexpr (kSnapBound) *finite = bounds.Store(df, out);
   return i;
+}
+
+size_t ProjectImpl(const float* xyz, size_t n, const float* R, const float* t, float fx, float fy, float cx,
+                   float cy, float* uvz) {
+  return VertexPass<false>(xyz, n, R, t, fx, fy, cx, cy, 0.f, 0.f, 0.f, uvz, nullptr, nullptr, nullptr);
 }
 
 // Bounds of whole vectors of vertices: out = {min u, max u, min v, max v}; returns how many
@@ -143,28 +160,11 @@ void SnapVerticesImpl(const ScreenVertex* v, size_t n, float ox, float oy, float
   for (; i < n; ++i) packed[i] = SnapVertexScalar(v[i], ox, oy, z_near);  // the tail
 }
 
-// ProjectImpl, SnapVerticesImpl and BoundImpl in one pass: whole vectors of vertices; returns
-// how many were done, their bounds in out[0..3] and in *finite whether all were finite.
+// ProjectImpl, SnapVerticesImpl and BoundImpl in one pass.
 size_t ProjectSnapBoundImpl(const float* xyz, size_t n, const float* R, const float* t, float fx, float fy, float cx,
                             float cy, float ox, float oy, float z_near, float* uvz, int32_t* packed, float* out,
                             bool* finite) {
-  const hn::ScalableTag<float> df;
-  const hn::RebindToSigned<decltype(df)> di;
-  const size_t lanes = hn::Lanes(df);
-  const Projector<decltype(df)> proj(df, R, t, fx, fy, cx, cy);
-  const Snapper<decltype(df)> snap(df, ox, oy, z_near);
-  Bounds<decltype(df)> bounds(df);
-  size_t i = 0;
-  for (; i + lanes <= n; i += lanes) {
-    decltype(hn::Zero(df)) x, y, z, u, v, pz;
-    hn::LoadInterleaved3(df, xyz + 3 * i, x, y, z);
-    proj.Project(x, y, z, u, v, pz);
-    hn::StoreInterleaved3(u, v, pz, df, uvz + 3 * i);
-    hn::StoreU(snap.Snap(df, u, v, pz), di, packed + i);
-    bounds.Add(u, v);
-  }
-  *finite = bounds.Store(df, out);
-  return i;
+  return VertexPass<true>(xyz, n, R, t, fx, fy, cx, cy, ox, oy, z_near, uvz, packed, out, finite);
 }
 
 }  // namespace HWY_NAMESPACE
