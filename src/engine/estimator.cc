@@ -1,6 +1,7 @@
 #include "mcpose/estimator.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <map>
@@ -147,6 +148,7 @@ StatusOr<ObjectEstimate> Estimator::Estimate(const Intrinsics& K, const DepthIma
 
   std::vector<score::InlierCounts> counts(n);
   filter::CdfSampler sampler;
+  std::vector<std::array<int64_t, 2>> worker_reads(static_cast<size_t>(cores.pool().size()));  // draws, naive
   int cur = 0;
   result.best_weight = -1;
   using Clock = std::chrono::steady_clock;
@@ -213,20 +215,25 @@ StatusOr<ObjectEstimate> Estimator::Estimate(const Intrinsics& K, const DepthIma
     sampler.Build(p.weight, opt.keep_top_fraction, opt.cdf_table_size);
     const double sigma_t = std::max(opt.sigma_t_min_m, opt.sigma_t_m * std::pow(opt.anneal, iter));
     const double sigma_r = std::max(opt.sigma_r_min_rad, opt.sigma_r_rad * std::pow(opt.anneal, iter));
+    // On the raster cores: each sample's draw and noise come from its own stream, so any split
+    // gives the same particles; the read counts are summed per worker.
     filter::ParticleSet& next = particles[1 - cur];
-    int64_t reads = 0, reads_naive = 0;
-    for (int i = 0; i < n; ++i) {
-      Rng rng(opt.seed, stream_id, kStepStream + static_cast<uint64_t>(iter), static_cast<uint64_t>(i));
-      const double u = rng.Uniform();
-      const int parent = sampler.Draw(u, &reads);
-      reads_naive += sampler.LinearSearchReads(u);
-      filter::Diffuse(p.R_cam_obj[parent], p.t_cam_obj_m[parent], sigma_r, sigma_t, rng,
-                      &next.R_cam_obj[i], &next.t_cam_obj_m[i]);
-      next.box[i] = p.box[parent];
-    }
+    std::fill(worker_reads.begin(), worker_reads.end(), std::array<int64_t, 2>{0, 0});
+    cores.pool().ParallelFor(n, [&](int64_t begin, int64_t end, int worker) {
+      int64_t reads = 0, reads_naive = 0;
+      for (int64_t i = begin; i < end; ++i) {
+        Rng rng(opt.seed, stream_id, kStepStream + static_cast<uint64_t>(iter), static_cast<uint64_t>(i));
+        const double u = rng.Uniform();
+        const int parent = sampler.Draw(u, &reads);
+        reads_naive += sampler.LinearSearchReads(u);
+        filter::Diffuse(p.R_cam_obj[parent], p.t_cam_obj_m[parent], sigma_r, sigma_t, rng,
+                        &next.R_cam_obj[i], &next.t_cam_obj_m[i]);
+        next.box[i] = p.box[parent];
+      }
+      worker_reads[worker][0] += reads, worker_reads[worker][1] += reads_naive;
+    });
     counters.cdf_draws += n;
-    counters.cdf_reads += reads;
-    counters.cdf_reads_naive += reads_naive;
+    for (const auto& r : worker_reads) counters.cdf_reads += r[0], counters.cdf_reads_naive += r[1];
     cur = 1 - cur;
     result.iteration_ms.push_back(ms_since(iter_start));
   }
