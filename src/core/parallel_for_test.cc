@@ -29,15 +29,18 @@ TEST(ParallelFor, VisitsEveryIndexOnceForAnyThreadCount) {
   }
 }
 
-// Jobs back to back (the workers still spinning) and after pauses longer than the spin (the
-// workers asleep on the condition variable) both visit every index exactly once.
+// Jobs back to back (the workers still spinning), after pauses longer than the spin (the
+// workers asleep on the condition variable), and with chunks slower than the spin (the caller
+// asleep until the last chunk is done) all visit every index exactly once before returning.
 TEST(ParallelFor, BackToBackJobsAndJobsAfterSleep) {
-  ThreadPool pool(3);
+  ThreadPool pool(2);
   std::vector<std::atomic<int>> hits(257);
   int expected = 0;
   for (int job = 0; job < 400; ++job) {
     if (job % 100 == 99) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    const bool slow = job % 50 == 25;
     pool.ParallelFor(static_cast<int64_t>(hits.size()), [&](int64_t b, int64_t e, int) {
+      if (slow) std::this_thread::sleep_for(std::chrono::milliseconds(2));
       for (int64_t i = b; i < e; ++i) ++hits[i];
     }, /*chunks_per_thread=*/4);
     ++expected;
