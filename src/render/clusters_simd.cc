@@ -27,6 +27,8 @@ struct CullConstants {
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 #include <hwy/highway.h>
 
+#include "render/project-inl.h"
+
 HWY_BEFORE_NAMESPACE();
 namespace mcpose::render {
 namespace HWY_NAMESPACE {
@@ -36,22 +38,14 @@ void CullClustersImpl(const float* soa, size_t stride, size_t n, const CullConst
   const hn::ScalableTag<float> df;
   const hn::RebindToSigned<decltype(df)> di;
   const size_t lanes = hn::Lanes(df);
-  decltype(hn::Zero(df)) r[9];
-  for (int j = 0; j < 9; ++j) r[j] = hn::Set(df, k.R[j]);
-  const auto t0 = hn::Set(df, k.t[0]), t1 = hn::Set(df, k.t[1]), t2 = hn::Set(df, k.t[2]);
-  const auto fx = hn::Set(df, k.fx), fy = hn::Set(df, k.fy), cx = hn::Set(df, k.cx), cy = hn::Set(df, k.cy);
+  // R x + t and the projection as CullCluster computes them (render/project-inl.h).
+  const Projector<decltype(df)> proj(df, k.R, k.t, k.fx, k.fy, k.cx, k.cy);
   const auto z_near = hn::Set(df, k.z_near), one = hn::Set(df, 1.0f), zero = hn::Zero(df);
   const auto bx0 = hn::Set(df, k.box[0]), bx1 = hn::Set(df, k.box[1]), by0 = hn::Set(df, k.box[2]),
              by1 = hn::Set(df, k.box[3]);
   const auto keep_v = hn::Set(di, static_cast<int32_t>(ClusterCull::kKeep));
   const auto back_v = hn::Set(di, static_cast<int32_t>(ClusterCull::kBackface));
   const auto outside_v = hn::Set(di, static_cast<int32_t>(ClusterCull::kOutsideBox));
-  // R x + t with Eigen's order: r0 x + (r1 y + r2 z), then + t.
-  auto transform = [&](auto x, auto y, auto z, auto* px, auto* py, auto* pz) {
-    *px = hn::Add(hn::Add(hn::Mul(r[0], x), hn::Add(hn::Mul(r[1], y), hn::Mul(r[2], z))), t0);
-    *py = hn::Add(hn::Add(hn::Mul(r[3], x), hn::Add(hn::Mul(r[4], y), hn::Mul(r[5], z))), t1);
-    *pz = hn::Add(hn::Add(hn::Mul(r[6], x), hn::Add(hn::Mul(r[7], y), hn::Mul(r[8], z))), t2);
-  };
   HWY_ALIGN int32_t result[ClusterSet::kSoaLanes];
   for (size_t first = 0; first < n; first += lanes) {
     auto field = [&](int f) { return hn::LoadU(df, soa + static_cast<size_t>(f) * stride + first); };
@@ -67,16 +61,16 @@ void CullClustersImpl(const float* soa, size_t stride, size_t n, const CullConst
 
     // The bounding sphere's cube.
     decltype(hn::Zero(df)) px, py, pz;
-    transform(field(kCenterX), field(kCenterY), field(kCenterZ), &px, &py, &pz);
+    proj.Transform(field(kCenterX), field(kCenterY), field(kCenterZ), px, py, pz);
     const auto rad = field(kRadius);
     const auto z0 = hn::Sub(pz, rad), z1 = hn::Add(pz, rad);
     const auto sphere_near = hn::Not(hn::Gt(z0, z_near));
     const auto i0 = hn::Div(one, z0), i1 = hn::Div(one, z1);
     const auto ax = hn::Sub(px, rad), bx = hn::Add(px, rad), ay = hn::Sub(py, rad), by = hn::Add(py, rad);
-    const auto u0 = hn::Add(hn::Mul(fx, hn::Min(hn::Mul(ax, i0), hn::Mul(ax, i1))), cx);
-    const auto u1 = hn::Add(hn::Mul(fx, hn::Max(hn::Mul(bx, i0), hn::Mul(bx, i1))), cx);
-    const auto v0 = hn::Add(hn::Mul(fy, hn::Min(hn::Mul(ay, i0), hn::Mul(ay, i1))), cy);
-    const auto v1 = hn::Add(hn::Mul(fy, hn::Max(hn::Mul(by, i0), hn::Mul(by, i1))), cy);
+    const auto u0 = hn::Add(hn::Mul(proj.fx, hn::Min(hn::Mul(ax, i0), hn::Mul(ax, i1))), proj.cx);
+    const auto u1 = hn::Add(hn::Mul(proj.fx, hn::Max(hn::Mul(bx, i0), hn::Mul(bx, i1))), proj.cx);
+    const auto v0 = hn::Add(hn::Mul(proj.fy, hn::Min(hn::Mul(ay, i0), hn::Mul(ay, i1))), proj.cy);
+    const auto v1 = hn::Add(hn::Mul(proj.fy, hn::Max(hn::Mul(by, i0), hn::Mul(by, i1))), proj.cy);
     const auto sphere_out =
         hn::Or(hn::Or(hn::Lt(u1, bx0), hn::Gt(u0, bx1)), hn::Or(hn::Lt(v1, by0), hn::Gt(v0, by1)));
 
@@ -86,11 +80,9 @@ void CullClustersImpl(const float* soa, size_t stride, size_t n, const CullConst
     auto cu0 = hn::Set(df, INFINITY), cu1 = hn::Set(df, -INFINITY), cv0 = cu0, cv1 = cu1;
     auto corner_near = hn::Lt(one, zero);  // none
     for (int c = 0; c < 8; ++c) {
-      decltype(hn::Zero(df)) qx, qy, qz;
-      transform((c & 1) ? hi_x : lo_x, (c & 2) ? hi_y : lo_y, (c & 4) ? hi_z : lo_z, &qx, &qy, &qz);
+      decltype(hn::Zero(df)) cu, cv, qz;
+      proj.Project((c & 1) ? hi_x : lo_x, (c & 2) ? hi_y : lo_y, (c & 4) ? hi_z : lo_z, cu, cv, qz);
       corner_near = hn::Or(corner_near, hn::Not(hn::Gt(qz, z_near)));
-      const auto iz = hn::Div(one, qz);
-      const auto cu = hn::Add(hn::Mul(hn::Mul(fx, qx), iz), cx), cv = hn::Add(hn::Mul(hn::Mul(fy, qy), iz), cy);
       cu0 = hn::Min(cu0, cu), cu1 = hn::Max(cu1, cu), cv0 = hn::Min(cv0, cv), cv1 = hn::Max(cv1, cv);
     }
     const auto corner_out =

@@ -15,33 +15,14 @@
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 #include <hwy/highway.h>
 
+#include "render/project-inl.h"
+
 HWY_BEFORE_NAMESPACE();
 namespace mcpose::render {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-// The per-vector steps, shared by the kernels below.
-template <class DF>
-struct Projector {
-  hn::Vec<DF> r[9], t0, t1, t2, fx, fy, cx, cy, one;
-  Projector(DF df, const float* R, const float* t, float fx_, float fy_, float cx_, float cy_) {
-    for (int k = 0; k < 9; ++k) r[k] = hn::Set(df, R[k]);  // row-major
-    t0 = hn::Set(df, t[0]), t1 = hn::Set(df, t[1]), t2 = hn::Set(df, t[2]);
-    fx = hn::Set(df, fx_), fy = hn::Set(df, fy_), cx = hn::Set(df, cx_), cy = hn::Set(df, cy_);
-    one = hn::Set(df, 1.0f);
-  }
-  // Model-frame x, y, z to pixel u, v and camera depth pz.
-  HWY_INLINE void Project(hn::Vec<DF> x, hn::Vec<DF> y, hn::Vec<DF> z, hn::Vec<DF>& u, hn::Vec<DF>& v,
-                          hn::Vec<DF>& pz) const {
-    const auto px = hn::Add(hn::Add(hn::Mul(r[0], x), hn::Add(hn::Mul(r[1], y), hn::Mul(r[2], z))), t0);
-    const auto py = hn::Add(hn::Add(hn::Mul(r[3], x), hn::Add(hn::Mul(r[4], y), hn::Mul(r[5], z))), t1);
-    pz = hn::Add(hn::Add(hn::Mul(r[6], x), hn::Add(hn::Mul(r[7], y), hn::Mul(r[8], z))), t2);
-    const auto inv_z = hn::Div(one, pz);
-    u = hn::Add(hn::Mul(hn::Mul(fx, px), inv_z), cx);
-    v = hn::Add(hn::Mul(hn::Mul(fy, py), inv_z), cy);
-  }
-};
-
+// The per-vector steps of the kernels below (Projector: render/project-inl.h).
 template <class DF>
 struct Bounds {
   hn::Vec<DF> min_u, max_u, min_v, max_v, inf;
