@@ -19,6 +19,13 @@ namespace mcpose::render {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
+// The lanes of `lanes_in` inside the triangle: no edge function negative, i.e. the sign bit
+// clear in E0 | E1 | E2.
+template <class V, class M>
+HWY_INLINE M Inside(V e0, V e1, V e2, M lanes_in) {
+  return hn::AndNot(hn::Lt(hn::Or(hn::Or(e0, e1), e2), hn::Zero(hn::DFromV<V>())), lanes_in);
+}
+
 // The row walk with vectors of tag DF: the same operations per lane at any width.
 template <class DF>
 HWY_INLINE int64_t FillRows(DF df, const CompactTriangle& t, float* zbuf, int stride) {
@@ -34,8 +41,6 @@ HWY_INLINE int64_t FillRows(DF df, const CompactTriangle& t, float* zbuf, int st
   }
   const auto fA = hn::Set(df, t.A);
   const auto one = hn::Set(df, 1.0f);
-  // Inside: no edge function negative, i.e. the sign bit clear in E0 | E1 | E2.
-  const auto zero_i = hn::Zero(di);
   int64_t covered = 0;
   int64_t w_row[3] = {t.w_row[0], t.w_row[1], t.w_row[2]};
   for (int32_t y = t.y_lo; y <= t.y_hi; ++y) {
@@ -48,7 +53,7 @@ HWY_INLINE int64_t FillRows(DF df, const CompactTriangle& t, float* zbuf, int st
     // (the caller's kSimdPadFloats of slack keep the last row's loads in bounds).
     for (int32_t x = t.x_lo; x <= t.x_hi; x += lanes) {
       const auto in_row = hn::FirstN(di, static_cast<size_t>(t.x_hi - x + 1));
-      const auto inside = hn::AndNot(hn::Lt(hn::Or(hn::Or(w0, w1), w2), zero_i), in_row);
+      const auto inside = Inside(w0, w1, w2, in_row);
       if (!hn::AllFalse(di, inside)) {
         covered += static_cast<int64_t>(hn::CountTrue(di, inside));
         const auto xs = hn::ConvertTo(df, hn::Add(hn::Set(di, x), iota));
@@ -118,8 +123,6 @@ HWY_INLINE int64_t FillBlocks(DF df, const CompactTriangle& t, float* zbuf, int 
   const auto ax = hn::Mul(hn::Set(df, t.A), hn::ConvertTo(df, hn::Add(lx, hn::Set(di, t.x_lo))));
   const auto fB = hn::Set(df, t.B), fC = hn::Set(df, t.C);
   const auto one = hn::Set(df, 1.0f);
-  // Inside: no edge function negative, i.e. the sign bit clear in E0 | E1 | E2.
-  const auto zero_i = hn::Zero(di);
   // Each lane's row, and the rows' end; covered pixels counted per lane (no lane exceeds the
   // triangle's pixel count, far below 2^31).
   auto y_lane = hn::Add(ly, hn::Set(di, t.y_lo));
@@ -130,8 +133,7 @@ HWY_INLINE int64_t FillBlocks(DF df, const CompactTriangle& t, float* zbuf, int 
   for (int32_t y = t.y_lo; y <= t.y_hi; y += kRows, row += static_cast<size_t>(kRows) * stride) {
     rows[0] = row;
     for (int32_t r = 1; r < kRows; ++r) rows[r] = y + r <= t.y_hi ? rows[r - 1] + stride : rows[r - 1];
-    const auto inside = hn::AndNot(hn::Lt(hn::Or(hn::Or(w[0], w[1]), w[2]), zero_i),
-                                   hn::And(in_span, hn::Lt(y_lane, y_end)));
+    const auto inside = Inside(w[0], w[1], w[2], hn::And(in_span, hn::Lt(y_lane, y_end)));
     covered = hn::Sub(covered, hn::VecFromMask(di, inside));
     const auto row_c = hn::Add(hn::Mul(fB, hn::ConvertTo(df, y_lane)), fC);
     const auto z = hn::Div(one, hn::Add(ax, row_c));
@@ -167,8 +169,6 @@ HWY_INLINE int64_t FillWideRows(DF df, const CompactTriangle& t, float* zbuf, in
     ax[j] = hn::Mul(fA, hn::ConvertTo(df, hn::Add(iota, hn::Set(di, t.x_lo + j * kLanes))));
   }
   const auto one = hn::Set(df, 1.0f);
-  // Inside: no edge function negative, i.e. the sign bit clear in E0 | E1 | E2.
-  const auto zero_i = hn::Zero(di);
   auto covered = hn::Zero(di);  // per lane, as in FillBlocks
   for (int32_t y = t.y_lo; y <= t.y_hi; ++y) {
     float* row = zbuf + static_cast<size_t>(y) * stride + t.x_lo;
@@ -176,7 +176,7 @@ HWY_INLINE int64_t FillWideRows(DF df, const CompactTriangle& t, float* zbuf, in
     const auto row_c = hn::Set(df, t.B * static_cast<float>(y) + t.C);
     auto e0 = w[0], e1 = w[1], e2 = w[2];
     for (int j = 0; j < kVecs; ++j) {
-      const auto inside = hn::AndNot(hn::Lt(hn::Or(hn::Or(e0, e1), e2), zero_i), in_span[j]);
+      const auto inside = Inside(e0, e1, e2, in_span[j]);
       covered = hn::Sub(covered, hn::VecFromMask(di, inside));
       const auto z = hn::Div(one, hn::Add(ax[j], row_c));
       const auto dst = hn::LoadU(df, row + j * kLanes);
@@ -285,13 +285,15 @@ int64_t FillTriangleSimd(const FixedTriangle& t, float* zbuf, int stride) {
 
 namespace {
 
-// The supported targets. Highway 1.0's SupportedTargets() re-chooses the dispatch target from
-// every target the CPU has, undoing DisableTargets (a --simd-target AVX2 run then dispatched
-// to AVX-512 after printing its targets); the dispatch target is chosen again here from the
-// enabled ones.
+// Chooses the dispatch target from the enabled targets. Highway 1.0's SupportedTargets()
+// re-chooses it from every target the CPU has, undoing DisableTargets (a --simd-target AVX2
+// run then dispatched to AVX-512 after printing its targets), so every listing ends with this.
+void ChooseDispatchTarget() { hwy::GetChosenTarget().Update(hwy::SupportedTargets()); }
+
+// The supported targets, best first.
 std::vector<int64_t> Targets() {
   std::vector<int64_t> targets = hwy::SupportedAndGeneratedTargets();
-  hwy::GetChosenTarget().Update(hwy::SupportedTargets());
+  ChooseDispatchTarget();
   return targets;
 }
 
@@ -315,7 +317,7 @@ bool LimitSimdTargets(const std::string& name) {
     if (name != hwy::TargetName(target)) continue;
     // Better targets have lower bits: disable every bit below this one.
     hwy::DisableTargets(target - 1);
-    Targets();
+    ChooseDispatchTarget();
     return true;
   }
   return false;
