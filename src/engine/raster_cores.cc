@@ -94,8 +94,10 @@ void RasterCores::Score(const ScoreJob& job, const filter::ParticleSet& particle
     s.vertices.resize(max_vertices);
     s.stats = render::RasterStats{};
   }
-  // The simd engine: the vertex stage, rows and inlier count of the Highway kernels.
+  // The simd engine: the vertex stage, rows and inlier count of the Highway kernels. The
+  // batched setup's snapped vertices (fixed, simd) come with the projection.
   const bool simd = backend_ == RasterBackend::kSimd;
+  const bool snap = job.batched_setup && backend_ != RasterBackend::kScalar;
   pool_.ParallelFor(static_cast<int64_t>(particles.size()), [&](int64_t begin, int64_t end, int worker) {
     Scratch& s = scratch_[worker];
     for (int64_t i = begin; i < end; ++i) {
@@ -114,8 +116,6 @@ void RasterCores::Score(const ScoreJob& job, const filter::ParticleSet& particle
       // whole box), render, and count inliers in that rect: the same counts as the whole box.
       const Eigen::Matrix3f R = particles.R_cam_obj[i].cast<float>();
       const Eigen::Vector3f t = particles.t_cam_obj_m[i].cast<float>();
-      // The batched setup's snapped vertices (fixed, simd) come with the projection.
-      const bool snap = job.batched_setup && backend_ != RasterBackend::kScalar;
       render::PixelRect cover;
       if (simd && snap) {
         cover = render::ProjectSnapBoundSimd(mesh.vertices_m, R, t, params, vertices, &s.snapped);
