@@ -42,19 +42,21 @@ HWY_INLINE void CountVector(DF df, const float* zr, const float* zo, int x, floa
 }
 
 // Whole vectors of the full width: per-lane counts (a lane's mask is -1 where true), summed
-// once per rect. Only the lanes in `lanes_in` count; without it (kMasked false), every lane.
-template <bool kMasked, class DF, class VI, class M>
-HWY_INLINE void AccumulateVector(DF df, const float* zr, const float* zo, int x, float eps_m, M lanes_in, VI* drawn,
-                                 VI* inliers, VI* occluded) {
+// once per rect.
+template <class DF, class VI>
+HWY_INLINE void Accumulate(DF, const PixelMasks<DF>& m, VI* drawn, VI* inliers, VI* occluded) {
   const hn::RebindToSigned<DF> di;
-  PixelMasks<DF> m = TestVector(df, zr, zo, x, eps_m);
-  if constexpr (kMasked) {
-    m.drawn = hn::And(lanes_in, m.drawn), m.inlier = hn::And(lanes_in, m.inlier);
-    m.occluded = hn::And(lanes_in, m.occluded);
-  }
   *drawn = hn::Sub(*drawn, hn::VecFromMask(di, hn::RebindMask(di, m.drawn)));
   *inliers = hn::Sub(*inliers, hn::VecFromMask(di, hn::RebindMask(di, m.inlier)));
   *occluded = hn::Sub(*occluded, hn::VecFromMask(di, hn::RebindMask(di, m.occluded)));
+}
+
+// The masks of the lanes in `lanes_in` only.
+template <class DF, class M>
+HWY_INLINE PixelMasks<DF> Only(PixelMasks<DF> m, M lanes_in) {
+  m.drawn = hn::And(lanes_in, m.drawn), m.inlier = hn::And(lanes_in, m.inlier);
+  m.occluded = hn::And(lanes_in, m.occluded);
+  return m;
 }
 
 void CountRect(const float* rendered, const float* observed, int stride, int x0, int y0, int x1, int y1,
@@ -78,10 +80,11 @@ void CountRect(const float* rendered, const float* observed, int stride, int x0,
     const float* zo = observed + static_cast<size_t>(y) * stride;
     int x = x0;
     for (; x + lanes <= x1; x += lanes) {
-      AccumulateVector<false>(df, zr, zo, x, eps_m, tail_lanes, &v_drawn, &v_inliers, &v_occluded);
+      Accumulate(df, TestVector(df, zr, zo, x, eps_m), &v_drawn, &v_inliers, &v_occluded);
     }
     if (x > x0 && x < x1) {
-      AccumulateVector<true>(df, zr, zo, x1 - lanes, eps_m, tail_lanes, &v_drawn, &v_inliers, &v_occluded);
+      Accumulate(df, Only(TestVector(df, zr, zo, x1 - lanes, eps_m), tail_lanes), &v_drawn, &v_inliers,
+                 &v_occluded);
       continue;
     }
     // A row narrower than a vector: narrower whole vectors (never past x1), then one pixel at a time.
