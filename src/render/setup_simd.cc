@@ -1,9 +1,10 @@
 // Batched triangle setup of the fixed-point raster core (see raster_fixed.h): with the vertices
 // snapped to the 1/16-pixel grid once per sample (SnapVertices, project_simd.cc), triangles
 // classified a vector at a time with Highway, compiled for every target Highway knows here and
-// dispatched at run time (once per call, not per triangle). SetupFixedTriangle (raster_fixed.cc) is its reference: every
-// triangle this pass decides gets the reason SetupFixedTriangle gives it, and every other
-// triangle is left to the per-triangle stage (SetupBatchedTriangle, raster_fixed.cc).
+// dispatched at run time (once per call, not per triangle). SetupFixedTriangle
+// (raster_fixed.cc) is its reference: every triangle this pass decides gets the reason
+// SetupFixedTriangle gives it, and every other triangle is left to the per-triangle stage
+// (SetupBatchedTriangle, raster_fixed.cc).
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -15,7 +16,7 @@
 #define MCPOSE_RENDER_SETUP_SIMD_TABLES_
 namespace mcpose::render::detail {
 // For each mask of up to 8 lanes, the positions of its set lanes in order, one per nibble
-// (the rest zero): the index table of CompressIota below.
+// (the rest zero): the index table of CompressLanes below.
 constexpr std::array<uint32_t, 256> MakeCompressNibbles() {
   std::array<uint32_t, 256> table{};
   for (uint32_t mask = 0; mask < 256; ++mask) {
