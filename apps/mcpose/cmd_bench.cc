@@ -85,13 +85,20 @@ Status RunBenchCommand(BenchArgs& a) {
   MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<Dataset> dataset, Dataset::Open(a.dataset, a.split));
 
   const std::string machine = bench::MachineDescription();
-  std::printf("machine: %s\nengine %s (SIMD target %s), LOD %.2f px, pixel stride %d, %d samples, %d iterations, "
-              "threads %d\n",
-              machine.c_str(), RasterBackendName(o.backend), ActiveSimdTarget().c_str(), o.lod_error_px,
-              o.pixel_stride, o.samples, a.options.iterations, o.threads);
-  std::printf("%-20s %6s %5s %8s %9s | %8s %17s | %8s %17s %9s | %s\n", "object", "tris", "lod", "culled",
-              "frags/it", "r+i ms", "(min-max)", "full ms", "(min-max)", "hyp/s", "baselines (ms, x, inlier diff)");
-  auto progress = [](const bench::BenchObject& r) {
+  // The header comes with the first object, so that input RunBench rejects before timing
+  // anything (an unknown obj_id or baseline) leaves only the error.
+  bool header_printed = false;
+  auto progress = [&](const bench::BenchObject& r) {
+    if (!header_printed) {
+      header_printed = true;
+      std::printf("machine: %s\nengine %s (SIMD target %s), LOD %.2f px, pixel stride %d, %d samples, "
+                  "%d iterations, threads %d\n",
+                  machine.c_str(), RasterBackendName(o.backend), ActiveSimdTarget().c_str(), o.lod_error_px,
+                  o.pixel_stride, o.samples, a.options.iterations, o.threads);
+      std::printf("%-20s %6s %5s %8s %9s | %8s %17s | %8s %17s %9s | %s\n", "object", "tris", "lod", "culled",
+                  "frags/it", "r+i ms", "(min-max)", "full ms", "(min-max)", "hyp/s",
+                  "baselines (ms, x, inlier diff)");
+    }
     std::string base;
     for (const auto& b : r.baselines) {
       char buf[160];
