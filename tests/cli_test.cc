@@ -270,7 +270,7 @@ TEST(Cli, BenchWritesEveryFieldAndBaselinesAgree) {
   ASSERT_EQ(o["baselines"].size(), 2u);
   for (const auto& b : o["baselines"]) EXPECT_LT(b["inliers_rel_diff"].get<double>(), 0.01) << b.dump();
 
-  // Bad input: one clear error, no JSON.
+  // Bad input: one clear error, no JSON, nothing on stdout.
   fs::remove(json);
   for (const std::string& bad : {std::string("--objects 99"), std::string("--baselines vulkan"),
                                  std::string("--iterations 0"), std::string("--engine gpu"),
@@ -279,6 +279,7 @@ TEST(Cli, BenchWritesEveryFieldAndBaselinesAgree) {
     EXPECT_EQ(e.exit_code, 1) << bad;
     EXPECT_NE(e.err.find("error"), std::string::npos) << bad << ": " << e.err;
     EXPECT_FALSE(fs::exists(json)) << bad;
+    EXPECT_EQ(e.out, "") << bad;
   }
 }
 
