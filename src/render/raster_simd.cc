@@ -191,8 +191,9 @@ HWY_INLINE int64_t FillWideRows(DF df, const CompactTriangle& t, float* zbuf, in
 #endif  // HWY_TARGET != HWY_SCALAR
 
 // Triangles at most one vector wide take FillBlocks: several rows per vector where the vector
-// holds at least two rows of 4 or 8 pixels (AVX2: 4 x 2; AVX-512: 4 x 4, 8 x 2), one row per
-// vector otherwise, with the span mask hoisted out of the row loop. Up to 4 vectors wide,
+// holds at least two rows of 4 or 8 pixels (AVX2: 4 x 2; AVX-512: 4 x 4, 8 x 2) and the box is
+// at least that wide, one row per vector otherwise, with the span mask hoisted out of the row
+// loop. Up to 4 vectors wide,
 // FillWideRows; wider ones FillRows.
 // Bit-identical at every width.
 int64_t FillTriangleRows(const CompactTriangle& triangle, float* zbuf, int stride) {
@@ -203,11 +204,14 @@ int64_t FillTriangleRows(const CompactTriangle& triangle, float* zbuf, int strid
   const int32_t span = t.x_hi - t.x_lo + 1;
   constexpr size_t kLanes = hn::MaxLanes(df);
   if constexpr (kLanes >= 4 && kLanes <= 16) {
+    // A block's rows share a vector only where the z-buffer's rows are at least the block's
+    // width apart: a row's lanes past the triangle, stored back unchanged, then end before the
+    // next row's pixels of the block.
     if constexpr (kLanes >= 8) {
-      if (span <= 4) return FillBlocks<4>(df, t, zbuf, stride);
+      if (span <= 4 && stride >= 4) return FillBlocks<4>(df, t, zbuf, stride);
     }
     if constexpr (kLanes == 16) {
-      if (span <= 8) return FillBlocks<8>(df, t, zbuf, stride);
+      if (span <= 8 && stride >= 8) return FillBlocks<8>(df, t, zbuf, stride);
     }
     if (span <= static_cast<int32_t>(kLanes)) return FillBlocks<kLanes>(df, t, zbuf, stride);
     if (span <= static_cast<int32_t>(2 * kLanes)) return FillWideRows<2>(df, t, zbuf, stride);

@@ -327,6 +327,44 @@ TEST(RasterSimd, NarrowTrianglesBitIdenticalOnEveryTarget) {
   hwy::SetSupportedTargetsForTest(0);
 }
 
+// Boxes narrower than a block (1 to 17 pixels wide): a block row's lanes past the triangle run
+// on into the next row of the z-buffer, which may be a later row of the same vector. Bit-identical
+// to the scalar rows on every target, over random depths.
+TEST(RasterSimd, BoxesNarrowerThanABlockBitIdenticalOnEveryTarget) {
+  std::mt19937_64 gen(17);
+  std::uniform_real_distribution<float> frac(0.f, 1.f), depth(0.75f, 0.95f);
+  for (int64_t target : hwy::SupportedAndGeneratedTargets()) {
+    hwy::SetSupportedTargetsForTest(target);
+    int filled = 0;
+    for (int box_width = 1; box_width <= 17; ++box_width) {
+      RasterParams p = TestRasterParams(true);
+      p.box = PixelRect{300, 200, 300 + box_width, 230};
+      std::vector<float> background(p.box.area() + kSimdPadFloats, INFINITY);
+      for (size_t i = 0; i < static_cast<size_t>(p.box.area()); ++i) background[i] = depth(gen);
+      for (int trial = 0; trial < 200; ++trial) {
+        // Triangles about as wide as the box or wider (clipped to it), up to 30 rows tall.
+        const float w = (box_width + 4) * frac(gen), h = 1.f + 29.f * frac(gen);
+        const float u0 = p.box.x0 - 2.f + (box_width + 2) * frac(gen), v0 = p.box.y0 - 1.f + 10.f * frac(gen);
+        const ScreenVertex a{u0, v0, 0.8f}, b{u0 + w * frac(gen), v0 + h, 0.9f},
+            c{u0 + w, v0 + h * frac(gen), 0.85f};
+        FixedTriangle ft;
+        TriangleSetup setup = SetupFixedTriangle(a, b, c, p, &ft);
+        if (setup == TriangleSetup::kCulledBackface) setup = SetupFixedTriangle(a, c, b, p, &ft);
+        if (setup != TriangleSetup::kReady) continue;
+        std::vector<float> z_scalar = background, z_simd = background;
+        const int64_t n_scalar = FillTriangleScalar(ft, z_scalar.data(), p.box.width());
+        const int64_t n_simd = FillTriangleSimd(ft, z_simd.data(), p.box.width());
+        ASSERT_EQ(n_simd, n_scalar) << hwy::TargetName(target) << " box width " << box_width;
+        ASSERT_EQ(0, std::memcmp(z_scalar.data(), z_simd.data(), z_scalar.size() * sizeof(float)))
+            << hwy::TargetName(target) << " box width " << box_width << " trial " << trial;
+        filled += n_scalar > 0;
+      }
+    }
+    EXPECT_GT(filled, 1000) << hwy::TargetName(target);
+  }
+  hwy::SetSupportedTargetsForTest(0);
+}
+
 // The SIMD vertex stage against the scalar one on every target: random rotations, translations
 // and vertex counts (whole vectors and tails), bit-identical screen vertices and cover rects,
 // also with a vertex at the camera centre (infinite u, v: the whole box) and none at all; and
