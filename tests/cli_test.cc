@@ -210,6 +210,35 @@ INSTANTIATE_TEST_SUITE_P(Engines, CliThreads,
                          ::testing::Values("--engine scalar", "--engine fixed", "--engine simd --lod-px 1"),
                          EngineTestName);
 
+// Boxes a detector gives for far, thin or mostly hidden objects: strips 2 to 7 pixels wide,
+// a 3-pixel-tall band, a 2 x 2 box and one half outside the image. The simd engine gives the
+// fixed-point engine's rows (grids narrower than a block of rows once lost depth writes).
+TEST(Cli, ThinAndTinyBoxesGiveTheFixedPointEnginesCsv) {
+  const fs::path dir = testing::TempDir("thin_boxes");
+  WriteText(dir / "dets.json", R"([
+    {"scene_id": 49, "image_id": 1, "category_id": 3, "score": 0.9, "bbox": [330, 132, 5, 150]},
+    {"scene_id": 49, "image_id": 1, "category_id": 3, "score": 0.5, "bbox": [300, 200, 2, 2]},
+    {"scene_id": 49, "image_id": 1, "category_id": 6, "score": 0.8, "bbox": [434, 130, 97, 3]},
+    {"scene_id": 49, "image_id": 1, "category_id": 9, "score": 0.7, "bbox": [230, 98, 7, 131]},
+    {"scene_id": 49, "image_id": 1, "category_id": 9, "score": 0.6, "bbox": [-45, 300, 90, 131]},
+    {"scene_id": 49, "image_id": 1, "category_id": 5, "score": 0.6, "bbox": [500, 20, 3, 90]}
+  ])");
+  for (const std::string stride : {"2", "1"}) {
+    std::vector<std::vector<std::string>> runs;
+    for (const std::string engine : {"fixed --threads 1", "simd --threads 2"}) {
+      const fs::path out = dir / "r.csv";
+      const CliResult r = RunCli("estimate --dataset " + testing::YcbvDir() + " --detections " +
+                                     (dir / "dets.json").string() + " --out " + out.string() +
+                                     " --iterations 6 --seed 3 -q --pixel-stride " + stride + " --engine " + engine,
+                                 dir);
+      ASSERT_EQ(r.exit_code, 0) << r.err;
+      runs.push_back(RowsWithoutTime(out));
+    }
+    ASSERT_EQ(runs[0].size(), 5u);  // header + one row per class
+    EXPECT_EQ(runs[1], runs[0]) << "pixel stride " << stride;
+  }
+}
+
 // --simd-target: the default (best) target and the last, least capable one give the same rows;
 // an unknown target is one clear error and no CSV.
 TEST(Cli, SimdTargetCapGivesTheSameCsv) {
