@@ -48,6 +48,10 @@ PixelRect CoverBoundFrom(std::span<const ScreenVertex> vertices, const PixelRect
   if (!finite) return box;
   if (!(min_u <= max_u) || max_u < box.x0 || min_u > box.x1 - 1 || max_v < box.y0 || min_v > box.y1 - 1)
     return PixelRect{};
+  // Clamped to the box and a little beyond before the conversion to int: a vertex near the
+  // camera plane projects far past the range of int. (The rect below is the same.)
+  min_u = std::max(min_u, box.x0 - 2.f), max_u = std::min(max_u, box.x1 + 2.f);
+  min_v = std::max(min_v, box.y0 - 2.f), max_v = std::min(max_v, box.y1 + 2.f);
   PixelRect r;
   // Rounded outwards by one pixel: vertices snapped to a sub-pixel grid stay inside.
   r.x0 = std::max(box.x0, static_cast<int>(std::floor(min_u)) - 1);
@@ -115,10 +119,11 @@ void RasterizeDepthReference(std::span<const ScreenVertex> vertices,
       ++s.culled_outside_box;
       continue;
     }
-    const int x_lo = std::max(box.x0, static_cast<int>(std::ceil(min_u)));
-    const int x_hi = std::min(box.x1 - 1, static_cast<int>(std::floor(max_u)));
-    const int y_lo = std::max(box.y0, static_cast<int>(std::ceil(min_v)));
-    const int y_hi = std::min(box.y1 - 1, static_cast<int>(std::floor(max_v)));
+    // (Clamped to the box before the conversion to int, as in CoverBoundFrom.)
+    const int x_lo = std::max(box.x0, static_cast<int>(std::ceil(std::max(min_u, box.x0 - 1.f))));
+    const int x_hi = std::min(box.x1 - 1, static_cast<int>(std::floor(std::min(max_u, float(box.x1)))));
+    const int y_lo = std::max(box.y0, static_cast<int>(std::ceil(std::max(min_v, box.y0 - 1.f))));
+    const int y_hi = std::min(box.y1 - 1, static_cast<int>(std::floor(std::min(max_v, float(box.y1)))));
 
     // Per-vertex 1/z for perspective-correct depth.
     const float inv_area = 1.0f / -area;

@@ -241,6 +241,15 @@ TEST(Raster, CoverBoundHoldsEveryWrittenPixel) {
   EXPECT_TRUE(CoverBound(far, TestRasterParams(true).box).empty());
   const ScreenVertex nan[1] = {{NAN, 0, 1}};
   EXPECT_EQ(CoverBound(nan, TestRasterParams(true).box).area(), TestRasterParams(true).box.area());
+  // Vertices near the camera plane project past the range of int: the box on their side.
+  const PixelRect box = TestRasterParams(true).box;
+  const ScreenVertex huge[3] = {{-1e30f, 210, 1}, {1e30f, 1e30f, 1}, {300, -1e20f, 1}};
+  const PixelRect all = CoverBound(huge, box);
+  EXPECT_TRUE(all.x0 == box.x0 && all.x1 == box.x1 && all.y0 == box.y0 && all.y1 == box.y1);
+  const ScreenVertex one_side[3] = {{250.5f, 200.5f, 1}, {1e30f, 250, 1}, {260, 260.5f, 1}};
+  const PixelRect right = CoverBound(one_side, box);
+  EXPECT_TRUE(right.x0 == 249 && right.x1 == box.x1 && right.y0 == 199 && right.y1 == 263)
+      << right.x0 << " " << right.x1 << " " << right.y0 << " " << right.y1;
 }
 
 
