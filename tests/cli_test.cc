@@ -139,6 +139,10 @@ const BadCase kBadCases[] = {
     {"unknown_class", [](const fs::path&, nlohmann::json& d) { d[0]["category_id"] = 99; return std::string("unknown class"); }, ""},
     {"box_outside_image", [](const fs::path&, nlohmann::json& d) {
        d[1]["bbox"] = {900, 100, 50, 50}; return std::string("outside"); }, ""},
+    {"box_far_outside_image", [](const fs::path&, nlohmann::json& d) {  // past the range of int
+       d[1]["bbox"] = {1e300, 100, 50, 50}; return std::string("outside"); }, ""},
+    {"box_far_left_of_image", [](const fs::path&, nlohmann::json& d) {
+       d[1]["bbox"] = {-1e300, 100, 50, 50}; return std::string("outside"); }, ""},
     {"zero_size_box", [](const fs::path& bop, nlohmann::json& d) {
        d[1]["bbox"] = {100, 100, 0, 50}; return (bop.parent_path() / "dets.json").string(); }, ""},
     {"no_such_image", [](const fs::path&, nlohmann::json& d) { d[0]["scene_id"] = 77; return std::string("no such image"); }, ""},

@@ -326,6 +326,23 @@ TEST(RasterCoresRealData, NarrowBoxesCountAsTheFixedPointCore) {
   EXPECT_GT(fragments, 100000);
 }
 
+// Boxes are clipped to the image and rounded outwards; any finite box, however far outside,
+// gives a rect inside the image or an empty one, and a non-finite one an empty one.
+TEST(RasterCores, ClipBoxKeepsEveryBoxInsideTheImage) {
+  const auto same = [](render::PixelRect a, render::PixelRect b) {
+    return a.x0 == b.x0 && a.y0 == b.y0 && a.x1 == b.x1 && a.y1 == b.y1;
+  };
+  EXPECT_TRUE(same(engine::ClipBox(10.5, 20, 5, 0.2, 640, 480), render::PixelRect{10, 20, 16, 21}));
+  EXPECT_TRUE(same(engine::ClipBox(-30, -40, 100, 1e9, 640, 480), render::PixelRect{0, 0, 70, 480}));
+  EXPECT_TRUE(same(engine::ClipBox(630, 0, 1e300, 10, 640, 480), render::PixelRect{630, 0, 640, 10}));
+  EXPECT_TRUE(engine::ClipBox(1e300, 10, 20, 20, 640, 480).empty());
+  EXPECT_TRUE(engine::ClipBox(-1e300, 10, 20, 20, 640, 480).empty());
+  EXPECT_TRUE(engine::ClipBox(10, -1e300, 20, 1e300, 640, 480).empty());  // ends at 0
+  EXPECT_TRUE(engine::ClipBox(640, 10, 20, 20, 640, 480).empty());
+  EXPECT_TRUE(engine::ClipBox(10, 10, NAN, 20, 640, 480).empty());
+  EXPECT_TRUE(engine::ClipBox(INFINITY, 10, 20, 20, 640, 480).empty());
+}
+
 TEST(RasterCores, BoxStrideKeepsTheGridWithinItsBudget) {
   EstimatorOptions o;
   o.pixel_stride = 2;

@@ -18,6 +18,10 @@ struct Detection {
   double time_s = -1;    // detector time for the image, < 0 if absent
 };
 
+// "[x, y, w, h]" of a detection's box, each number in %g form (6 significant digits), for
+// messages.
+std::string BoxText(const Detection& d);
+
 // Reads a BOP detections JSON file: a list of {"scene_id", "image_id", "category_id", "score",
 // "bbox": [x, y, w, h], "time" (optional)}. Errors name the file and the offending entry.
 StatusOr<std::vector<Detection>> ReadDetectionsJson(const std::string& path);

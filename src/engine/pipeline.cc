@@ -47,9 +47,7 @@ StatusOr<RunReport> RunEstimation(const Dataset& dataset, const std::vector<Dete
     for (const auto& [obj_id, dets] : by_class) {
       for (const Detection& d : dets) {
         if (engine::ClipBox(d.x, d.y, d.w, d.h, frame.K.width, frame.K.height).empty()) {
-          return InvalidArgument(detections_source + ": box [" + std::to_string(d.x) + ", " +
-                                 std::to_string(d.y) + ", " + std::to_string(d.w) + ", " +
-                                 std::to_string(d.h) + "] of obj_id " + std::to_string(obj_id) +
+          return InvalidArgument(detections_source + ": box " + BoxText(d) + " of obj_id " + std::to_string(obj_id) +
                                  " in scene_id " + std::to_string(key.scene_id) + ", image_id " +
                                  std::to_string(key.image_id) + " lies outside the " +
                                  std::to_string(frame.K.width) + "x" + std::to_string(frame.K.height) +

@@ -10,12 +10,13 @@ namespace mcpose::engine {
 
 render::PixelRect ClipBox(double x, double y, double w, double h, int width, int height) {
   render::PixelRect r;
+  if (!(std::isfinite(x) && std::isfinite(y) && std::isfinite(w) && std::isfinite(h))) return r;
   // BOP boxes count pixel indices: [x, x + w) holds pixels x .. x + w - 1. Fractional
-  // boxes are rounded outwards.
-  r.x0 = static_cast<int>(std::max(0.0, std::floor(x)));
-  r.y0 = static_cast<int>(std::max(0.0, std::floor(y)));
-  r.x1 = static_cast<int>(std::min<double>(width, std::ceil(x + w)));
-  r.y1 = static_cast<int>(std::min<double>(height, std::ceil(y + h)));
+  // boxes are rounded outwards. Both ends are clamped to the image before the conversion to
+  // int (a coordinate like 1e300 does not fit one).
+  const auto clip = [](double v, int size) { return static_cast<int>(std::clamp(v, 0.0, static_cast<double>(size))); };
+  r.x0 = clip(std::floor(x), width), r.x1 = clip(std::ceil(x + w), width);
+  r.y0 = clip(std::floor(y), height), r.y1 = clip(std::ceil(y + h), height);
   if (r.empty()) return render::PixelRect{};
   return r;
 }

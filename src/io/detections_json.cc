@@ -3,6 +3,7 @@
 #include "mcpose/detection.h"
 
 #include <cmath>
+#include <cstdio>
 #include <exception>
 
 #include "io/io_util.h"
@@ -13,19 +14,24 @@ namespace {
 
 using nlohmann::json;
 
+std::string Number(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", v);
+  return text;
+}
+
 // Empty if `d` is a valid detection, else what is wrong with it.
 std::string CheckDetection(const Detection& d) {
   if (d.scene_id < 0 || d.image_id < 0) return "scene_id and image_id must be >= 0";
   if (d.obj_id < 1) return "category_id must be a positive integer";
   if (!std::isfinite(d.score) || d.score < 0 || d.score > 1) {
-    return "score must be a finite number in [0, 1], got " + std::to_string(d.score);
+    return "score must be a finite number in [0, 1], got " + Number(d.score);
   }
   if (!std::isfinite(d.x) || !std::isfinite(d.y) || !std::isfinite(d.w) || !std::isfinite(d.h)) {
     return "bbox must have 4 finite numbers";
   }
   if (!(d.w > 0) || !(d.h > 0)) {
-    return "bbox width and height must be positive, got [" + std::to_string(d.x) + ", " +
-           std::to_string(d.y) + ", " + std::to_string(d.w) + ", " + std::to_string(d.h) + "]";
+    return "bbox width and height must be positive, got " + BoxText(d);
   }
   if (!std::isfinite(d.time_s)) return "time must be finite";
   return {};
@@ -63,6 +69,10 @@ std::string ParseEntry(const json& entry, Detection* d) {
 }
 
 }  // namespace
+
+std::string BoxText(const Detection& d) {
+  return "[" + Number(d.x) + ", " + Number(d.y) + ", " + Number(d.w) + ", " + Number(d.h) + "]";
+}
 
 StatusOr<std::vector<Detection>> ReadDetectionsJson(const std::string& path) {
   try {
