@@ -121,6 +121,24 @@ void LoadObjectInFrame(FrameKey key, int obj_id, ObjectInFrame* out) {
   out->mesh = std::move(mesh).value();
 }
 
+// A score job whose boxes all render one LOD level of `full`, with the level's clusters when
+// `clusters` (job.box_clusters can be set later from box_clusters).
+struct LevelJob {
+  LevelJob(const Mesh& full, const render::LodLevel& level, const Intrinsics& K,
+           std::span<const engine::BoxDepth> boxes, bool clusters)
+      : box_mesh{&level.mesh}, box_clusters{&level.clusters} {
+    job.mesh = &full;
+    job.box_mesh = box_mesh;
+    if (clusters) job.box_clusters = box_clusters;
+    job.K = K;
+    job.boxes = boxes;
+  }
+  LevelJob(const LevelJob&) = delete;  // job points into the arrays
+  const Mesh* box_mesh[1];
+  const render::ClusterSet* box_clusters[1];
+  engine::ScoreJob job;
+};
+
 TEST(RasterCoresRealData, CountsEqualAWholeBoxRenderForEveryBackendAndLod) {
   ObjectInFrame o;
   ASSERT_NO_FATAL_FAILURE(LoadObjectInFrame(FrameKey{1, 1}, 5, &o));  // 006_mustard_bottle
@@ -139,12 +157,8 @@ TEST(RasterCoresRealData, CountsEqualAWholeBoxRenderForEveryBackendAndLod) {
 
   for (RasterBackend backend : {RasterBackend::kScalar, RasterBackend::kFixedPoint, RasterBackend::kSimd}) {
     for (int level : {0, chain.num_levels() - 1}) {
-      const Mesh* box_mesh[1] = {&chain.level(level).mesh};
-      engine::ScoreJob job;
-      job.mesh = &*mesh;
-      job.box_mesh = box_mesh;
-      job.K = K;
-      job.boxes = boxes;
+      const LevelJob level_job(*mesh, chain.level(level), K, boxes, /*clusters=*/false);
+      const engine::ScoreJob& job = level_job.job;
       engine::RasterCores cores(2, backend);
       std::vector<score::InlierCounts> counts(particles.size());
       render::RasterStats stats;
@@ -250,18 +264,13 @@ TEST(RasterCoresRealData, ClusterCullingGivesTheSameCounts) {
       const render::LodChain chain = render::LodChain::Build(*o.mesh);
       for (RasterBackend backend : {RasterBackend::kFixedPoint, RasterBackend::kSimd}) {
         for (int level = 0; level < chain.num_levels(); ++level) {
-          const Mesh* box_mesh[1] = {&chain.level(level).mesh};
-          const render::ClusterSet* box_clusters[1] = {&chain.level(level).clusters};
-          engine::ScoreJob job;
-          job.mesh = &*o.mesh;
-          job.box_mesh = box_mesh;
-          job.K = K;
-          job.boxes = boxes;
+          LevelJob level_job(*o.mesh, chain.level(level), K, boxes, /*clusters=*/false);
+          engine::ScoreJob& job = level_job.job;
           engine::RasterCores cores(2, backend);
           std::vector<score::InlierCounts> plain(particles.size()), clustered(particles.size());
           render::RasterStats plain_stats, clustered_stats;
           cores.Score(job, particles, plain, &plain_stats);
-          job.box_clusters = box_clusters;
+          job.box_clusters = level_job.box_clusters;
           cores.Score(job, particles, clustered, &clustered_stats);
           EXPECT_EQ(clustered, plain) << "obj " << obj_id << " stride " << stride << " level " << level;
           EXPECT_GT(clustered_stats.clusters, 0);
@@ -306,14 +315,8 @@ TEST(RasterCoresRealData, NarrowBoxesCountAsTheFixedPointCore) {
       filter::ParticleSet particles;
       engine::InitializeSamples(K, *o.mesh, std::span(&d, 1), boxes, opt, 13, &particles);
       const int level = engine::SelectLodLevel(chain, K, *o.mesh, d, boxes[0], opt);
-      const Mesh* box_mesh[1] = {&chain.level(level).mesh};
-      const render::ClusterSet* box_clusters[1] = {&chain.level(level).clusters};
-      engine::ScoreJob job;
-      job.mesh = &*o.mesh;
-      job.box_mesh = box_mesh;
-      job.box_clusters = box_clusters;
-      job.K = K;
-      job.boxes = boxes;
+      const LevelJob level_job(*o.mesh, chain.level(level), K, boxes, /*clusters=*/true);
+      const engine::ScoreJob& job = level_job.job;
       std::vector<score::InlierCounts> fixed(particles.size()), simd(particles.size());
       render::RasterStats fixed_stats, simd_stats;
       engine::RasterCores(1, RasterBackend::kFixedPoint).Score(job, particles, fixed, &fixed_stats);

@@ -290,6 +290,30 @@ TEST(RasterSimd, BitIdenticalToScalarRowsOnEveryTarget) {
   hwy::SetSupportedTargetsForTest(0);
 }
 
+// The front face of triangle a, b, c set up in p's box; false when it is not ready
+// (degenerate, or between pixel centres).
+bool SetUpFrontFace(const ScreenVertex& a, const ScreenVertex& b, const ScreenVertex& c, const RasterParams& p,
+                    FixedTriangle* ft) {
+  TriangleSetup setup = SetupFixedTriangle(a, b, c, p, ft);
+  if (setup == TriangleSetup::kCulledBackface) setup = SetupFixedTriangle(a, c, b, p, ft);
+  return setup == TriangleSetup::kReady;
+}
+
+// `ft` filled into copies of `background` by the scalar rows and by the SIMD rows.
+struct BothFills {
+  int64_t n_scalar = 0, n_simd = 0;  // covered pixels
+  std::vector<float> z_scalar, z_simd;
+  bool same_bits = false;  // the z-buffers, bit for bit
+};
+BothFills FillBoth(const FixedTriangle& ft, const std::vector<float>& background, int stride) {
+  BothFills f;
+  f.z_scalar = background, f.z_simd = background;
+  f.n_scalar = FillTriangleScalar(ft, f.z_scalar.data(), stride);
+  f.n_simd = FillTriangleSimd(ft, f.z_simd.data(), stride);
+  f.same_bits = std::memcmp(f.z_scalar.data(), f.z_simd.data(), background.size() * sizeof(float)) == 0;
+  return f;
+}
+
 // Narrow triangles (1 to 70 pixels wide, 1 to 12 rows) take the blocks of rows (4, 8 and 16
 // pixels wide), the unrolled rows of 2 to 4 vectors and, past those, the row kernel:
 // bit-identical to the scalar rows on every target, at every sub-pixel offset tried, over a
@@ -315,19 +339,14 @@ TEST(RasterSimd, NarrowTrianglesBitIdenticalOnEveryTarget) {
         const ScreenVertex a{u0, v0, 0.8f}, b{u0 + width * frac(gen), v0 + height, 0.9f},
             c{u0 + static_cast<float>(width), v0 + height * frac(gen) - 1.f, 0.85f};
         FixedTriangle ft;
-        TriangleSetup setup = SetupFixedTriangle(a, b, c, p, &ft);
-        if (setup == TriangleSetup::kCulledBackface) setup = SetupFixedTriangle(a, c, b, p, &ft);  // the front face
-        if (setup != TriangleSetup::kReady) continue;  // degenerate, or between pixel centres
-        std::vector<float> z_scalar = background, z_simd = background;
-        const int64_t n_scalar = FillTriangleScalar(ft, z_scalar.data(), p.box.width());
-        const int64_t n_simd = FillTriangleSimd(ft, z_simd.data(), p.box.width());
-        ASSERT_EQ(n_simd, n_scalar) << hwy::TargetName(target) << " width " << width;
-        ASSERT_EQ(0, std::memcmp(z_scalar.data(), z_simd.data(), z_scalar.size() * sizeof(float)))
-            << hwy::TargetName(target) << " width " << width << " trial " << trial;
-        filled += n_scalar > 0;
+        if (!SetUpFrontFace(a, b, c, p, &ft)) continue;
+        const BothFills f = FillBoth(ft, background, p.box.width());
+        ASSERT_EQ(f.n_simd, f.n_scalar) << hwy::TargetName(target) << " width " << width;
+        ASSERT_TRUE(f.same_bits) << hwy::TargetName(target) << " width " << width << " trial " << trial;
+        filled += f.n_scalar > 0;
         int64_t changed = 0;
-        for (size_t i = 0; i < background.size(); ++i) changed += z_scalar[i] != background[i];
-        kept_old += n_scalar > changed;  // some covered pixels were behind the old depth
+        for (size_t i = 0; i < background.size(); ++i) changed += f.z_scalar[i] != background[i];
+        kept_old += f.n_scalar > changed;  // some covered pixels were behind the old depth
       }
     }
     EXPECT_GT(filled, 400) << hwy::TargetName(target);
@@ -357,16 +376,11 @@ TEST(RasterSimd, BoxesNarrowerThanABlockBitIdenticalOnEveryTarget) {
         const ScreenVertex a{u0, v0, 0.8f}, b{u0 + w * frac(gen), v0 + h, 0.9f},
             c{u0 + w, v0 + h * frac(gen), 0.85f};
         FixedTriangle ft;
-        TriangleSetup setup = SetupFixedTriangle(a, b, c, p, &ft);
-        if (setup == TriangleSetup::kCulledBackface) setup = SetupFixedTriangle(a, c, b, p, &ft);
-        if (setup != TriangleSetup::kReady) continue;
-        std::vector<float> z_scalar = background, z_simd = background;
-        const int64_t n_scalar = FillTriangleScalar(ft, z_scalar.data(), p.box.width());
-        const int64_t n_simd = FillTriangleSimd(ft, z_simd.data(), p.box.width());
-        ASSERT_EQ(n_simd, n_scalar) << hwy::TargetName(target) << " box width " << box_width;
-        ASSERT_EQ(0, std::memcmp(z_scalar.data(), z_simd.data(), z_scalar.size() * sizeof(float)))
-            << hwy::TargetName(target) << " box width " << box_width << " trial " << trial;
-        filled += n_scalar > 0;
+        if (!SetUpFrontFace(a, b, c, p, &ft)) continue;
+        const BothFills f = FillBoth(ft, background, p.box.width());
+        ASSERT_EQ(f.n_simd, f.n_scalar) << hwy::TargetName(target) << " box width " << box_width;
+        ASSERT_TRUE(f.same_bits) << hwy::TargetName(target) << " box width " << box_width << " trial " << trial;
+        filled += f.n_scalar > 0;
       }
     }
     EXPECT_GT(filled, 1000) << hwy::TargetName(target);
