@@ -293,8 +293,11 @@ TEST(Cli, BenchWritesEveryFieldAndBaselinesAgree) {
                         "full_iteration_ms_median", "full_iteration_ms_min", "full_iteration_ms_max",
                         "hypotheses_per_s", "embree_ms_median", "osmesa_ms_median", "speedup_embree",
                         "speedup_osmesa", "cdf_reads_per_draw", "cdf_reads_per_draw_naive", "depth_bytes_read",
-                        "depth_bytes_read_naive"})
+                        "depth_bytes_read_naive", "initial_render_inlier_runs"})
     EXPECT_TRUE(o.contains(f)) << f;
+  // One round (--repeats 1): mcpose timed 1 to 32 times, about as long as the faster baseline.
+  EXPECT_GE(o["initial_render_inlier_runs"].get<int>(), 1);
+  EXPECT_LE(o["initial_render_inlier_runs"].get<int>(), 32);
   EXPECT_EQ(o["obj_id"], 10);
   EXPECT_EQ(o["samples"], 120);
   EXPECT_EQ(o["per_iteration"]["full_ms"].size(), 4u);

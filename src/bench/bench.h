@@ -5,7 +5,8 @@
 //     estimator for `iterations` iterations with tau = infinity (no early stop);
 //   - render + inlier alone on the initial hypotheses, for mcpose's raster cores and for each
 //     baseline (src/baselines) on the same hypotheses, same boxes and same mesh, with the
-//     inlier counts compared so that the times are of the same work.
+//     inlier counts compared so that the times are of the same work; interleaved in rounds,
+//     so that a slow stretch of a shared machine falls on both.
 #pragma once
 
 #include <functional>
@@ -23,7 +24,9 @@ struct BenchOptions {
   std::vector<int> obj_ids;           // empty: the paper's five objects (2, 4, 5, 9, 10)
   EstimatorOptions estimator;         // samples, threads, engine, LOD ...; tau is ignored
   int iterations = 50;                // full iterations timed per object
-  int render_repeats = 5;             // repeats of render + inlier for mcpose and baselines
+  // Rounds of render + inlier on the initial hypotheses: each times every baseline once and
+  // mcpose about as long (1 to 32 runs), after one untimed run of each.
+  int render_repeats = 5;
   std::vector<std::string> baselines;  // "embree", "osmesa"
 };
 
@@ -50,6 +53,7 @@ struct BenchObject {
   double hypotheses_per_s = 0;         // samples / median full iteration
   int64_t mcpose_inliers_total = 0;    // on the initial hypotheses (baseline comparison)
   double mcpose_render_inlier_initial_ms = 0;  // median, initial hypotheses
+  int mcpose_render_inlier_initial_runs = 0;   // timed runs behind that median
   std::vector<BaselineResult> baselines;
   EngineCounters counters;             // summed over the timed iterations
   int iterations = 0;
