@@ -3,6 +3,7 @@
 // ones, with Highway, compiled for every target Highway knows here and dispatched at run time.
 // FillTriangleScalar (raster_fixed.cc) is its reference.
 #include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -26,9 +27,56 @@ HWY_INLINE M Inside(V e0, V e1, V e2, M lanes_in) {
   return hn::AndNot(hn::Lt(hn::Or(hn::Or(e0, e1), e2), hn::Zero(hn::DFromV<V>())), lanes_in);
 }
 
+// The row kernels return their covered pixel counts per lane (summed by the caller).
+template <class DF>
+using LaneCounts = hn::Vec<hn::RebindToSigned<DF>>;
+
+// The triangle's edge functions at (x_lo, y_lo), their steps per pixel in x and y, and its
+// 1/z plane, each broadcast to every lane.
+template <class DF>
+struct TriangleLanes {
+  hn::Vec<hn::RebindToSigned<DF>> w[3], sx[3], sy[3];
+  hn::Vec<DF> a, b, c;
+};
+
+// w_row, step_x, step_y and A, B, C are 12 consecutive 32-bit fields: three 128-bit loads and
+// a lane broadcast each (Set() of a field goes through a general register, three instructions).
+static_assert(offsetof(CompactTriangle, step_x) == offsetof(CompactTriangle, w_row) + 12 &&
+              offsetof(CompactTriangle, step_y) == offsetof(CompactTriangle, w_row) + 24 &&
+              offsetof(CompactTriangle, A) == offsetof(CompactTriangle, w_row) + 36 &&
+              offsetof(CompactTriangle, C) == offsetof(CompactTriangle, w_row) + 44);
+template <class DF>
+HWY_INLINE TriangleLanes<DF> BroadcastTriangle(DF df, const CompactTriangle& t) {
+  const hn::RebindToSigned<DF> di;
+  TriangleLanes<DF> v;
+#if HWY_TARGET == HWY_SCALAR
+  for (int k = 0; k < 3; ++k) {
+    v.w[k] = hn::Set(di, t.w_row[k]), v.sx[k] = hn::Set(di, t.step_x[k]), v.sy[k] = hn::Set(di, t.step_y[k]);
+  }
+  v.a = hn::Set(df, t.A), v.b = hn::Set(df, t.B), v.c = hn::Set(df, t.C);
+#else
+  const int32_t* p = reinterpret_cast<const int32_t*>(reinterpret_cast<const char*>(&t) + offsetof(CompactTriangle, w_row));
+  // The same 4 fields in every 128-bit block.
+  const auto load4 = [di](const int32_t* q) {
+    if constexpr (hn::MaxLanes(decltype(di)()) <= 4) {
+      return hn::LoadU(di, q);
+    } else {
+      return hn::LoadDup128(di, q);
+    }
+  };
+  const auto q0 = load4(p), q1 = load4(p + 4), q2 = load4(p + 8);  // w0 w1 w2 sx0 | sx1 sx2 sy0 sy1 | sy2 A B C
+  v.w[0] = hn::Broadcast<0>(q0), v.w[1] = hn::Broadcast<1>(q0), v.w[2] = hn::Broadcast<2>(q0);
+  v.sx[0] = hn::Broadcast<3>(q0), v.sx[1] = hn::Broadcast<0>(q1), v.sx[2] = hn::Broadcast<1>(q1);
+  v.sy[0] = hn::Broadcast<2>(q1), v.sy[1] = hn::Broadcast<3>(q1), v.sy[2] = hn::Broadcast<0>(q2);
+  const auto f2 = hn::BitCast(df, q2);
+  v.a = hn::Broadcast<1>(f2), v.b = hn::Broadcast<2>(f2), v.c = hn::Broadcast<3>(f2);
+#endif
+  return v;
+}
+
 // The row walk with vectors of tag DF: the same operations per lane at any width.
 template <class DF>
-HWY_INLINE int64_t FillRows(DF df, const CompactTriangle& t, float* zbuf, int stride) {
+HWY_INLINE LaneCounts<DF> FillRows(DF df, const CompactTriangle& HWY_RESTRICT t, float* HWY_RESTRICT zbuf, int stride) {
   const hn::RebindToSigned<DF> di;
   const int32_t lanes = static_cast<int32_t>(hn::Lanes(di));
   const auto iota = hn::Iota(di, 0);
@@ -67,7 +115,8 @@ HWY_INLINE int64_t FillRows(DF df, const CompactTriangle& t, float* zbuf, int st
     }
     w_row[0] += t.step_y[0], w_row[1] += t.step_y[1], w_row[2] += t.step_y[2];
   }
-  return covered;
+  // In lane 0 (a triangle covers at most kMaxSimdSpanPx^2 pixels, far below 2^31).
+  return hn::IfThenElseZero(hn::FirstN(di, 1), hn::Set(di, static_cast<int32_t>(covered)));
 }
 
 #if HWY_TARGET != HWY_SCALAR  // one lane: no blocks
@@ -103,7 +152,7 @@ HWY_INLINE void StoreBlock(D d, hn::Vec<D> v, float* const* rows) {
 // scalar kernel. Rows past y_hi are masked out; their pointers alias row y_hi, so nothing
 // outside the triangle's rows (and the kSimdPadFloats slack after a row) is touched.
 template <size_t kW, class DF>
-HWY_INLINE int64_t FillBlocks(DF df, const CompactTriangle& t, float* zbuf, int stride) {
+HWY_INLINE LaneCounts<DF> FillBlocks(DF df, const CompactTriangle& HWY_RESTRICT t, float* HWY_RESTRICT zbuf, int stride) {
   const hn::RebindToSigned<DF> di;
   constexpr size_t kLanes = hn::MaxLanes(DF());
   constexpr int32_t kRows = static_cast<int32_t>(kLanes / kW);
@@ -111,17 +160,16 @@ HWY_INLINE int64_t FillBlocks(DF df, const CompactTriangle& t, float* zbuf, int 
   const auto lane = hn::Iota(di, 0);
   const auto lx = hn::And(lane, hn::Set(di, static_cast<int32_t>(kW - 1)));
   const auto ly = hn::ShiftRight<hwy::CeilLog2(kW)>(lane);
+  const TriangleLanes<DF> v = BroadcastTriangle(df, t);
   decltype(hn::Zero(di)) w[3], block_step[3];
   for (int k = 0; k < 3; ++k) {
-    const auto offset = hn::Add(hn::Mul(lx, hn::Set(di, t.step_x[k])),
-                                hn::Mul(ly, hn::Set(di, t.step_y[k])));
-    w[k] = hn::Add(hn::Set(di, t.w_row[k]), offset);
-    block_step[k] = hn::Set(di, t.step_y[k] * kRows);
+    w[k] = hn::Add(v.w[k], hn::Add(hn::Mul(lx, v.sx[k]), hn::Mul(ly, v.sy[k])));
+    block_step[k] = hn::ShiftLeft<hwy::CeilLog2(kRows)>(v.sy[k]);  // step_y * kRows
   }
   const auto in_span = hn::Lt(lx, hn::Set(di, t.x_hi - t.x_lo + 1));
   // A x per lane, rounded as the scalar kernel rounds it before adding B y + C.
-  const auto ax = hn::Mul(hn::Set(df, t.A), hn::ConvertTo(df, hn::Add(lx, hn::Set(di, t.x_lo))));
-  const auto fB = hn::Set(df, t.B), fC = hn::Set(df, t.C);
+  const auto ax = hn::Mul(v.a, hn::ConvertTo(df, hn::Add(lx, hn::Set(di, t.x_lo))));
+  const auto fB = v.b, fC = v.c;
   const auto one = hn::Set(df, 1.0f);
   // Each lane's row, and the rows' end; covered pixels counted per lane (no lane exceeds the
   // triangle's pixel count, far below 2^31).
@@ -143,27 +191,27 @@ HWY_INLINE int64_t FillBlocks(DF df, const CompactTriangle& t, float* zbuf, int 
     for (int k = 0; k < 3; ++k) w[k] = hn::Add(w[k], block_step[k]);
     y_lane = hn::Add(y_lane, rows_step);
   }
-  return hn::GetLane(hn::SumOfLanes(di, covered));
+  return covered;
 }
 
 // Triangles at most kVecs vectors wide (kVecs 2 to 4), a row at a time: the row's kVecs vectors
 // unrolled, each with its span mask hoisted out of the row loop, no branches. The same lanes,
 // integer tests and float operations as FillRows and the scalar kernel.
 template <int kVecs, class DF>
-HWY_INLINE int64_t FillWideRows(DF df, const CompactTriangle& t, float* zbuf, int stride) {
+HWY_INLINE LaneCounts<DF> FillWideRows(DF df, const CompactTriangle& HWY_RESTRICT t, float* HWY_RESTRICT zbuf, int stride) {
   const hn::RebindToSigned<DF> di;
   constexpr int32_t kLanes = static_cast<int32_t>(hn::MaxLanes(DF()));
   const auto iota = hn::Iota(di, 0);
-  decltype(hn::Zero(di)) w[3], lane_step[3], vec_step[3];
+  const TriangleLanes<DF> v = BroadcastTriangle(df, t);
+  decltype(hn::Zero(di)) w[3], vec_step[3];
   for (int k = 0; k < 3; ++k) {
-    lane_step[k] = hn::Mul(iota, hn::Set(di, t.step_x[k]));
-    vec_step[k] = hn::Set(di, t.step_x[k] * kLanes);
-    w[k] = hn::Add(hn::Set(di, t.w_row[k]), lane_step[k]);
+    vec_step[k] = hn::ShiftLeft<hwy::CeilLog2(kLanes)>(v.sx[k]);  // step_x * kLanes
+    w[k] = hn::Add(v.w[k], hn::Mul(iota, v.sx[k]));
   }
   const int32_t span = t.x_hi - t.x_lo + 1;
   decltype(hn::FirstN(di, 0)) in_span[kVecs];
   decltype(hn::Zero(df)) ax[kVecs];
-  const auto fA = hn::Set(df, t.A);
+  const auto fA = v.a;
   for (int j = 0; j < kVecs; ++j) {
     in_span[j] = hn::FirstN(di, static_cast<size_t>(std::max(0, span - j * kLanes)));
     ax[j] = hn::Mul(fA, hn::ConvertTo(df, hn::Add(iota, hn::Set(di, t.x_lo + j * kLanes))));
@@ -184,9 +232,9 @@ HWY_INLINE int64_t FillWideRows(DF df, const CompactTriangle& t, float* zbuf, in
       hn::StoreU(hn::IfThenElse(keep, z, dst), df, row + j * kLanes);
       e0 = hn::Add(e0, vec_step[0]), e1 = hn::Add(e1, vec_step[1]), e2 = hn::Add(e2, vec_step[2]);
     }
-    for (int k = 0; k < 3; ++k) w[k] = hn::Add(w[k], hn::Set(di, t.step_y[k]));
+    for (int k = 0; k < 3; ++k) w[k] = hn::Add(w[k], v.sy[k]);
   }
-  return hn::GetLane(hn::SumOfLanes(di, covered));
+  return covered;
 }
 #endif  // HWY_TARGET != HWY_SCALAR
 
@@ -196,9 +244,8 @@ HWY_INLINE int64_t FillWideRows(DF df, const CompactTriangle& t, float* zbuf, in
 // loop. Up to 4 vectors wide,
 // FillWideRows; wider ones FillRows.
 // Bit-identical at every width.
-int64_t FillTriangleRows(const CompactTriangle& triangle, float* zbuf, int stride) {
-  // A local copy: the row loops' stores cannot alias it, so its fields stay in registers.
-  const CompactTriangle t = triangle;
+HWY_INLINE LaneCounts<hn::ScalableTag<float>> FillOneTriangle(const CompactTriangle& HWY_RESTRICT t,
+                                                               float* HWY_RESTRICT zbuf, int stride) {
   const hn::ScalableTag<float> df;
 #if HWY_TARGET != HWY_SCALAR
   const int32_t span = t.x_hi - t.x_lo + 1;
@@ -222,19 +269,31 @@ int64_t FillTriangleRows(const CompactTriangle& triangle, float* zbuf, int strid
   return FillRows(df, t, zbuf, stride);
 }
 
+int64_t FillTriangleRows(const CompactTriangle& t, float* zbuf, int stride) {
+  const hn::ScalableTag<int32_t> di;
+  return hn::GetLane(hn::SumOfLanes(di, FillOneTriangle(t, zbuf, stride)));
+}
+
 const char* TargetNameImpl() { return hwy::TargetName(HWY_TARGET); }
 
+// The kernels inlined into one loop over the ready triangles; the covered counts stay per
+// lane and are summed every 256 triangles (no lane reaches 2^31), a triangle that covers
+// nothing found by comparing its lanes with zero.
 void FillBatch(const CompactTriangle* t, const uint8_t* ready, size_t n, float* zbuf, int stride,
                RasterStats* stats) {
-  int64_t rasterized = 0, between = 0, fragments = 0;
+  const hn::ScalableTag<int32_t> di;
+  const auto zero = hn::Zero(di);
+  auto lanes = zero;
+  int64_t filled = 0, between = 0, fragments = 0;
   for (size_t j = 0; j < n; ++j) {
     if (!ready[j]) continue;
-    const int64_t covered = FillTriangleRows(t[j], zbuf, stride);
-    rasterized += covered != 0;
-    between += covered == 0;
-    fragments += covered;
+    const auto covered = FillOneTriangle(t[j], zbuf, stride);
+    between += hn::AllTrue(di, hn::Eq(covered, zero));
+    lanes = hn::Add(lanes, covered);
+    if (++filled % 256 == 0) fragments += hn::GetLane(hn::SumOfLanes(di, lanes)), lanes = zero;
   }
-  stats->rasterized += rasterized;
+  fragments += hn::GetLane(hn::SumOfLanes(di, lanes));
+  stats->rasterized += filled - between;
   stats->culled_between_pixels += between;
   stats->fragments += fragments;
 }
