@@ -194,7 +194,7 @@ HWY_INLINE LaneCounts<DF> FillBlocks(DF df, const CompactTriangle& HWY_RESTRICT 
   return covered;
 }
 
-// Triangles at most kVecs vectors wide (kVecs 2 to 4), a row at a time: the row's kVecs vectors
+// Triangles at most kVecs vectors wide (kVecs 1 to 4), a row at a time: the row's kVecs vectors
 // unrolled, each with its span mask hoisted out of the row loop, no branches. The same lanes,
 // integer tests and float operations as FillRows and the scalar kernel.
 template <int kVecs, class DF>
@@ -238,12 +238,10 @@ HWY_INLINE LaneCounts<DF> FillWideRows(DF df, const CompactTriangle& HWY_RESTRIC
 }
 #endif  // HWY_TARGET != HWY_SCALAR
 
-// Triangles at most one vector wide take FillBlocks: several rows per vector where the vector
-// holds at least two rows of 4 or 8 pixels (AVX2: 4 x 2; AVX-512: 4 x 4, 8 x 2) and the box is
-// at least that wide, one row per vector otherwise, with the span mask hoisted out of the row
-// loop. Up to 4 vectors wide,
-// FillWideRows; wider ones FillRows.
-// Bit-identical at every width.
+// Triangles at most one vector wide take FillBlocks where the vector holds at least two rows
+// of 4 or 8 pixels (AVX2: 4 x 2; AVX-512: 4 x 4, 8 x 2) and the box is at least that wide, and
+// FillWideRows<1> (a row per vector) otherwise. Up to 4 vectors wide, FillWideRows; wider
+// ones FillRows. Bit-identical at every width.
 HWY_INLINE LaneCounts<hn::ScalableTag<float>> FillOneTriangle(const CompactTriangle& HWY_RESTRICT t,
                                                                float* HWY_RESTRICT zbuf, int stride) {
   const hn::ScalableTag<float> df;
@@ -260,7 +258,7 @@ HWY_INLINE LaneCounts<hn::ScalableTag<float>> FillOneTriangle(const CompactTrian
     if constexpr (kLanes == 16) {
       if (span <= 8 && stride >= 8) return FillBlocks<8>(df, t, zbuf, stride);
     }
-    if (span <= static_cast<int32_t>(kLanes)) return FillBlocks<kLanes>(df, t, zbuf, stride);
+    if (span <= static_cast<int32_t>(kLanes)) return FillWideRows<1>(df, t, zbuf, stride);
     if (span <= static_cast<int32_t>(2 * kLanes)) return FillWideRows<2>(df, t, zbuf, stride);
     if (span <= static_cast<int32_t>(3 * kLanes)) return FillWideRows<3>(df, t, zbuf, stride);
     if (span <= static_cast<int32_t>(4 * kLanes)) return FillWideRows<4>(df, t, zbuf, stride);
