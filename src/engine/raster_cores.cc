@@ -43,6 +43,7 @@ BoxDepth DistributeDepth(const DepthImage& depth, const Intrinsics& K, const ren
     for (int i = 0; i < gw; ++i) dst[i] = src[static_cast<size_t>(i) * stride];
   }
   b.n_observed = score::CountObserved(b.observed);
+  b.observed_or_nan = score::ObservedOrNaN(b.observed);
   if (mode == InlierMode::k3D) b.cloud = std::make_unique<score::ObservedCloud>(b.K_grid, b.rect, b.observed);
   return b;
 }
@@ -210,7 +211,7 @@ void RasterCores::Score(const ScoreJob& job, const filter::ParticleSet& particle
       // Compare with the observed depth of the box.
       if (job.inlier_mode == InlierMode::k1D) {
         counts[i] = simd
-                        ? score::CountInliers1DInRectSimd(s.zbuf.data(), box.observed.data(), stride, rel,
+                        ? score::CountInliers1DInRectSimd(s.zbuf.data(), box.observed_or_nan.data(), stride, rel,
                                                           box.n_observed, job.eps_m)
                         : score::CountInliers1DInRect(s.zbuf.data(), box.observed.data(), stride, rel,
                                                       box.n_observed, job.eps_m);

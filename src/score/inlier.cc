@@ -13,6 +13,13 @@ int32_t CountObserved(std::span<const float> observed) {
   return n;
 }
 
+std::vector<float> ObservedOrNaN(std::span<const float> observed) {
+  std::vector<float> out(observed.begin(), observed.end());
+  for (float& d : out)
+    if (!(d > 0.f)) d = NAN;
+  return out;
+}
+
 InlierCounts CountInliers1D(std::span<const float> rendered, std::span<const float> observed,
                             float eps_m) {
   InlierCounts c;

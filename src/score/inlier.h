@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <vector>
 
 #include "mcpose/camera.h"
 #include "render/raster.h"
@@ -36,9 +37,14 @@ InlierCounts CountInliers1D(std::span<const float> rendered, std::span<const flo
 InlierCounts CountInliers1DInRect(const float* rendered, const float* observed, int stride,
                                   const render::PixelRect& rect, int32_t n_observed, float eps_m);
 
+// `observed` with NaN for every invalid pixel (depth not > 0): the form the SIMD counter
+// reads, where a comparison with NaN is false, so validity needs no test of its own.
+std::vector<float> ObservedOrNaN(std::span<const float> observed);
+
 // CountInliers1DInRect a vector of pixels at a time (Highway: AVX-512, AVX2, SSE4 or scalar,
-// chosen at run time); the same counts (inlier_simd.cc, tested on every target).
-InlierCounts CountInliers1DInRectSimd(const float* rendered, const float* observed, int stride,
+// chosen at run time) on `observed_or_nan` (ObservedOrNaN of the box's observed depth); the
+// same counts (inlier_simd.cc, tested on every target).
+InlierCounts CountInliers1DInRectSimd(const float* rendered, const float* observed_or_nan, int stride,
                                       const render::PixelRect& rect, int32_t n_observed, float eps_m);
 
 // w = a * N / N_b + b * N / N_r + c * score; a term with a zero denominator is 0. With

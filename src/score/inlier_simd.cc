@@ -16,7 +16,9 @@ namespace mcpose::score {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-// The tests of the pixels [x, x + lanes of DF) of one row: drawn, inlier, occluded.
+// The tests of the pixels [x, x + lanes of DF) of one row: drawn, inlier, occluded. `zo` is
+// NaN where the observed depth is invalid, so both depth comparisons are false there; an
+// undrawn pixel (+inf) is no inlier either (|inf - o| is not below eps).
 template <class DF>
 struct PixelMasks {
   decltype(hn::FirstN(DF(), 0)) drawn, inlier, occluded;
@@ -27,8 +29,7 @@ HWY_INLINE PixelMasks<DF> TestVector(DF df, const float* zr, const float* zo, in
   const auto o = hn::LoadU(df, zo + x);
   const auto eps = hn::Set(df, eps_m);
   const auto d = hn::Ne(r, hn::Set(df, INFINITY));
-  const auto dv = hn::And(d, hn::Gt(o, hn::Zero(df)));
-  return {d, hn::And(dv, hn::Lt(hn::Abs(hn::Sub(r, o)), eps)), hn::And(dv, hn::Le(o, hn::Sub(r, eps)))};
+  return {d, hn::Lt(hn::Abs(hn::Sub(r, o)), eps), hn::And(d, hn::Le(o, hn::Sub(r, eps)))};
 }
 
 // Counts them (the row tails).
@@ -90,7 +91,7 @@ void CountRect(const float* rendered, const float* observed, int stride, int x0,
     // A row narrower than a vector: narrower whole vectors (never past x1), then one pixel at a time.
     if (lanes8 < lanes && x + lanes8 <= x1) CountVector(d8, zr, zo, x, eps_m, &drawn, &inliers, &occluded), x += lanes8;
     if (lanes4 < lanes8 && x + lanes4 <= x1) CountVector(d4, zr, zo, x, eps_m, &drawn, &inliers, &occluded), x += lanes4;
-    for (; x < x1; ++x) {  // as the reference does it
+    for (; x < x1; ++x) {  // as the reference does it (NaN > 0 is false)
       const bool d = zr[x] != INFINITY, valid = zo[x] > 0.f;
       drawn += d;
       inliers += d & valid & (std::fabs(zr[x] - zo[x]) < eps_m);
@@ -112,10 +113,10 @@ namespace mcpose::score {
 
 HWY_EXPORT(CountRect);
 
-InlierCounts CountInliers1DInRectSimd(const float* rendered, const float* observed, int stride,
+InlierCounts CountInliers1DInRectSimd(const float* rendered, const float* observed_or_nan, int stride,
                                       const render::PixelRect& rect, int32_t n_observed, float eps_m) {
   int64_t n[3];
-  HWY_DYNAMIC_DISPATCH(CountRect)(rendered, observed, stride, rect.x0, rect.y0, rect.x1, rect.y1, eps_m, n);
+  HWY_DYNAMIC_DISPATCH(CountRect)(rendered, observed_or_nan, stride, rect.x0, rect.y0, rect.x1, rect.y1, eps_m, n);
   InlierCounts c;
   c.observed = n_observed;
   c.rendered = static_cast<int32_t>(n[0]);

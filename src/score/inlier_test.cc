@@ -79,9 +79,12 @@ TEST(Inlier, SimdRectCountsEqualTheScalarReferenceOnEveryTarget) {
       if (x0 > x1) std::swap(x0, x1);
       if (y0 > y1) std::swap(y0, y1);
       const render::PixelRect rect{x0, y0, x1, y1};
-      const int32_t n_obs = CountObserved(b.observed);
-      EXPECT_EQ(CountInliers1DInRectSimd(b.rendered.data(), b.observed.data(), w, rect, n_obs, 0.01f),
-                CountInliers1DInRect(b.rendered.data(), b.observed.data(), w, rect, n_obs, 0.01f))
+      // Invalid observed depths of every kind: 0, negative, NaN.
+      for (int i = 3; i < w * h; i += 11) b.observed[i] = i % 3 == 0 ? -0.5f : i % 3 == 1 ? NAN : 0.f;
+      const int32_t n_valid = CountObserved(b.observed);
+      const std::vector<float> or_nan = ObservedOrNaN(b.observed);
+      EXPECT_EQ(CountInliers1DInRectSimd(b.rendered.data(), or_nan.data(), w, rect, n_valid, 0.01f),
+                CountInliers1DInRect(b.rendered.data(), b.observed.data(), w, rect, n_valid, 0.01f))
           << hwy::TargetName(target) << " trial " << trial;
     }
   }
