@@ -51,11 +51,13 @@ HWY_INLINE TriangleLanes<DF> BroadcastTriangle(DF df, const CompactTriangle& t) 
   TriangleLanes<DF> v;
 #if HWY_TARGET == HWY_SCALAR
   for (int k = 0; k < 3; ++k) {
-    v.w[k] = hn::Set(di, t.w_row[k]), v.sx[k] = hn::Set(di, t.step_x[k]), v.sy[k] = hn::Set(di, t.step_y[k]);
+    v.w[k] = hn::Set(di, t.w_row[k]);
+    v.sx[k] = hn::Set(di, t.step_x[k]), v.sy[k] = hn::Set(di, t.step_y[k]);
   }
   v.a = hn::Set(df, t.A), v.b = hn::Set(df, t.B), v.c = hn::Set(df, t.C);
 #else
-  const int32_t* p = reinterpret_cast<const int32_t*>(reinterpret_cast<const char*>(&t) + offsetof(CompactTriangle, w_row));
+  const int32_t* p =
+      reinterpret_cast<const int32_t*>(reinterpret_cast<const char*>(&t) + offsetof(CompactTriangle, w_row));
   // The same 4 fields in every 128-bit block.
   const auto load4 = [di](const int32_t* q) {
     if constexpr (hn::MaxLanes(decltype(di)()) <= 4) {
@@ -64,7 +66,8 @@ HWY_INLINE TriangleLanes<DF> BroadcastTriangle(DF df, const CompactTriangle& t) 
       return hn::LoadDup128(di, q);
     }
   };
-  const auto q0 = load4(p), q1 = load4(p + 4), q2 = load4(p + 8);  // w0 w1 w2 sx0 | sx1 sx2 sy0 sy1 | sy2 A B C
+  // w0 w1 w2 sx0 | sx1 sx2 sy0 sy1 | sy2 A B C
+  const auto q0 = load4(p), q1 = load4(p + 4), q2 = load4(p + 8);
   v.w[0] = hn::Broadcast<0>(q0), v.w[1] = hn::Broadcast<1>(q0), v.w[2] = hn::Broadcast<2>(q0);
   v.sx[0] = hn::Broadcast<3>(q0), v.sx[1] = hn::Broadcast<0>(q1), v.sx[2] = hn::Broadcast<1>(q1);
   v.sy[0] = hn::Broadcast<2>(q1), v.sy[1] = hn::Broadcast<3>(q1), v.sy[2] = hn::Broadcast<0>(q2);
@@ -76,7 +79,8 @@ HWY_INLINE TriangleLanes<DF> BroadcastTriangle(DF df, const CompactTriangle& t) 
 
 // The row walk with vectors of tag DF: the same operations per lane at any width.
 template <class DF>
-HWY_INLINE LaneCounts<DF> FillRows(DF df, const CompactTriangle& HWY_RESTRICT t, float* HWY_RESTRICT zbuf, int stride) {
+HWY_INLINE LaneCounts<DF> FillRows(DF df, const CompactTriangle& HWY_RESTRICT t, float* HWY_RESTRICT zbuf,
+                                   int stride) {
   const hn::RebindToSigned<DF> di;
   const int32_t lanes = static_cast<int32_t>(hn::Lanes(di));
   const auto iota = hn::Iota(di, 0);
@@ -152,7 +156,8 @@ HWY_INLINE void StoreBlock(D d, hn::Vec<D> v, float* const* rows) {
 // scalar kernel. Rows past y_hi are masked out; their pointers alias row y_hi, so nothing
 // outside the triangle's rows (and the kSimdPadFloats slack after a row) is touched.
 template <size_t kW, class DF>
-HWY_INLINE LaneCounts<DF> FillBlocks(DF df, const CompactTriangle& HWY_RESTRICT t, float* HWY_RESTRICT zbuf, int stride) {
+HWY_INLINE LaneCounts<DF> FillBlocks(DF df, const CompactTriangle& HWY_RESTRICT t, float* HWY_RESTRICT zbuf,
+                                     int stride) {
   const hn::RebindToSigned<DF> di;
   constexpr size_t kLanes = hn::MaxLanes(DF());
   constexpr int32_t kRows = static_cast<int32_t>(kLanes / kW);
@@ -198,7 +203,8 @@ HWY_INLINE LaneCounts<DF> FillBlocks(DF df, const CompactTriangle& HWY_RESTRICT 
 // unrolled, each with its span mask hoisted out of the row loop, no branches. The same lanes,
 // integer tests and float operations as FillRows and the scalar kernel.
 template <int kVecs, class DF>
-HWY_INLINE LaneCounts<DF> FillWideRows(DF df, const CompactTriangle& HWY_RESTRICT t, float* HWY_RESTRICT zbuf, int stride) {
+HWY_INLINE LaneCounts<DF> FillWideRows(DF df, const CompactTriangle& HWY_RESTRICT t, float* HWY_RESTRICT zbuf,
+                                       int stride) {
   const hn::RebindToSigned<DF> di;
   constexpr int32_t kLanes = static_cast<int32_t>(hn::MaxLanes(DF()));
   const auto iota = hn::Iota(di, 0);
