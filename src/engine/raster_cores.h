@@ -32,10 +32,10 @@ struct BoxDepth {
   render::PixelRect image_rect;  // the box in image pixels
   int stride = 1;
   Intrinsics K_grid;             // projection onto the grid (fx / s, fy / s, shifted centre)
-  std::vector<float> observed;  // rect-sized, metres, 0 = invalid
+  std::vector<float> observed;         // rect-sized, metres, 0 = invalid
   std::vector<float> observed_or_nan;  // the same with NaN where invalid (the SIMD counter)
-  int32_t n_observed = 0;       // N_b
-  double score = 0;             // detector confidence
+  int32_t n_observed = 0;              // N_b
+  double score = 0;                    // detector confidence
   std::unique_ptr<score::ObservedCloud> cloud;  // only for InlierMode::k3D
 };
 
