@@ -12,6 +12,7 @@ namespace {
 
 constexpr const char* kHeader = "scene_id,im_id,obj_id,score,R,t,time";
 constexpr double kMmPerMetre = 1000.0;
+constexpr double kRotationTolerance = 1e-3;
 
 void AppendF(std::string* out, const char* format, double value) {
   char buffer[64];
@@ -51,6 +52,15 @@ std::string ParseLine(std::string_view line, PoseResult* r) {
   for (int i = 0; i < 3; ++i) {
     for (int j = 0; j < 3; ++j) r->T_cam_obj.R(i, j) = R[3 * i + j];
     r->T_cam_obj.t(i) = t_mm[i] / kMmPerMetre;
+  }
+  // A rotation: orthonormal with determinant +1, to the precision a text file carries.
+  const double off = (r->T_cam_obj.R.transpose() * r->T_cam_obj.R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+  const double det = r->T_cam_obj.R.determinant();
+  if (!(off <= kRotationTolerance) || !(std::abs(det - 1.0) <= kRotationTolerance)) {
+    char text[128];
+    std::snprintf(text, sizeof text, "R is not a rotation: max |R^T R - I| = %.3g, det = %.6g (tolerance %g)", off,
+                  det, kRotationTolerance);
+    return text;
   }
   return {};
 }

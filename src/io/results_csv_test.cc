@@ -79,6 +79,8 @@ TEST(ResultsCsvIoTest, BadLinesNameFileAndLine) {
       {"48,x,2,0.5,1 0 0 0 1 0 0 0 1,10 -20 800,1\n", "line 3: im_id is not an integer"},
       {"48,1,2,high,1 0 0 0 1 0 0 0 1,10 -20 800,1\n", "line 3: score is not a finite number"},
       {"48,1,2,0.5,1 0 0 0 1 0 0 0 1,10 -20 800,soon\n", "line 3: time is not a finite number"},
+      {"48,1,2,0.5,2 0 0 0 1 0 0 0 1,10 -20 800,1\n", "line 3: R is not a rotation: max |R^T R - I| = 3,"},
+      {"48,1,2,0.5,-1 0 0 0 1 0 0 0 1,10 -20 800,1\n", "line 3: R is not a rotation: max |R^T R - I| = 0, det = -1"},
   };
   for (const Case& c : cases) {
     const std::string path = WriteText("results_bad", header + good + c.line);
