@@ -54,12 +54,13 @@ std::string ParseLine(std::string_view line, PoseResult* r) {
     r->T_cam_obj.t(i) = t_mm[i] / kMmPerMetre;
   }
   // A rotation: orthonormal with determinant +1, to the precision a text file carries.
-  const double off = (r->T_cam_obj.R.transpose() * r->T_cam_obj.R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
-  const double det = r->T_cam_obj.R.determinant();
+  const Eigen::Matrix3d& Rm = r->T_cam_obj.R;
+  const double off = (Rm.transpose() * Rm - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+  const double det = Rm.determinant();
   if (!(off <= kRotationTolerance) || !(std::abs(det - 1.0) <= kRotationTolerance)) {
     char text[128];
-    std::snprintf(text, sizeof text, "R is not a rotation: max |R^T R - I| = %.3g, det = %.6g (tolerance %g)", off,
-                  det, kRotationTolerance);
+    std::snprintf(text, sizeof text, "R is not a rotation: max |R^T R - I| = %.3g, det = %.6g (tolerance %g)",
+                  off, det, kRotationTolerance);
     return text;
   }
   return {};

@@ -83,11 +83,11 @@ TriangleSetup SetupSnappedTriangle(const int32_t X[3], const int32_t Y[3], const
 //                       functions; requires a span of at most kMaxSimdSpanPx and
 //                       kSimdPadFloats of readable, writable slack after the z-buffer (whole
 //                       vectors are loaded and stored back; pixels past a row's end are
-//                       written back unchanged). Triangles at most one vector wide take
-//                       blocks of rows (AVX2: 4 x 2 or 8 x 1 pixels per vector; AVX-512:
-//                       4 x 4, 8 x 2 or 16 x 1); up to 4 vectors wide, a row at a time with
-//                       its vectors unrolled; wider ones a row at a time in a loop over
-//                       vectors. Bit-identical to FillTriangleScalar (same
+//                       written back unchanged). Triangles at most 4 (AVX2) or 8 (AVX-512)
+//                       pixels wide take blocks of rows (AVX2: 4 x 2 pixels per vector;
+//                       AVX-512: 4 x 4 or 8 x 2) where the box is at least the block's width;
+//                       other triangles up to 4 vectors wide, a row at a time with its vectors
+//                       unrolled; wider ones a row at a time in a loop over vectors. Bit-identical to FillTriangleScalar (same
 //                       integer coverage, same float operations, no FMA contraction).
 int64_t FillTriangleScalar(const FixedTriangle& t, float* zbuf, int stride);
 int64_t FillTriangleSimd(const FixedTriangle& t, float* zbuf, int stride);

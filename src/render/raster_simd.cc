@@ -1,6 +1,7 @@
 // The SIMD row kernel of the fixed-point raster core (see raster_fixed.h): a vector of pixels
-// at a time, as blocks of rows for triangles at most one vector wide and row by row for wider
-// ones, with Highway, compiled for every target Highway knows here and dispatched at run time.
+// at a time, as blocks of rows for triangles at most 4 or 8 pixels wide and row by row for
+// the others, with Highway, compiled for every target Highway knows here and dispatched at run
+// time.
 // FillTriangleScalar (raster_fixed.cc) is its reference.
 #include <algorithm>
 #include <cstddef>

@@ -314,8 +314,8 @@ BothFills FillBoth(const FixedTriangle& ft, const std::vector<float>& background
   return f;
 }
 
-// Narrow triangles (1 to 70 pixels wide, 1 to 12 rows) take the blocks of rows (4, 8 and 16
-// pixels wide), the unrolled rows of 2 to 4 vectors and, past those, the row kernel:
+// Narrow triangles (1 to 70 pixels wide, 1 to 12 rows) take the blocks of rows (4 and 8
+// pixels wide), the unrolled rows of 1 to 4 vectors and, past those, the row kernel:
 // bit-identical to the scalar rows on every target, at every sub-pixel offset tried, over a
 // z-buffer of random depths (so the depth test decides), and at the box's last rows and columns
 // (where a block's rows past the triangle alias its last row).
