@@ -285,6 +285,21 @@ TEST(RasterCoresRealData, ClusterCullingGivesTheSameCounts) {
           cores.Score(job, particles, per_triangle, &per_triangle_stats);
           EXPECT_EQ(per_triangle, clustered) << "obj " << obj_id << " stride " << stride << " level " << level;
           EXPECT_EQ(per_triangle_stats, clustered_stats) << "obj " << obj_id << " level " << level;
+          // Back faces rasterized: only clusters outside the box are dropped (exact), so the
+          // same counts and fragments as the per-triangle path.
+          if (level + 1 == chain.num_levels()) {
+            job.batched_setup = true, job.cull_backfaces = false;
+            std::vector<score::InlierCounts> both_plain(particles.size()), both_clustered(particles.size());
+            render::RasterStats both_plain_stats, both_clustered_stats;
+            cores.Score(job, particles, both_clustered, &both_clustered_stats);
+            job.box_clusters = {};
+            cores.Score(job, particles, both_plain, &both_plain_stats);
+            EXPECT_EQ(both_clustered, both_plain) << "obj " << obj_id << " stride " << stride;
+            EXPECT_EQ(both_clustered_stats.clusters_culled_backface, 0);
+            EXPECT_EQ(both_clustered_stats.culled_backface, 0);
+            EXPECT_GT(both_clustered_stats.rasterized, plain_stats.rasterized);
+            EXPECT_EQ(both_clustered_stats.fragments, both_plain_stats.fragments);
+          }
         }
       }
     }

@@ -86,8 +86,9 @@ void ClusterSet::BuildSoa() {
 
 ClusterCull CullCluster(const Cluster& c, const Eigen::Matrix3f& R, const Eigen::Vector3f& t,
                         const Eigen::Vector3f& camera_in_model, const RasterParams& params) {
-  // Back-facing: meshoptimizer's perspective cone test, with a margin.
-  if (c.cone_cutoff < 1.0f - kConeMargin) {
+  // Back-facing (when back faces are culled): meshoptimizer's perspective cone test, with a
+  // margin.
+  if (params.cull_backfaces && c.cone_cutoff < 1.0f - kConeMargin) {
     const Eigen::Vector3f view = c.cone_apex - camera_in_model;
     const float len = view.norm();
     if (len > 0 && view.dot(c.cone_axis) >= (c.cone_cutoff + kConeMargin) * len) return ClusterCull::kBackface;

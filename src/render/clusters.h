@@ -58,7 +58,8 @@ enum class ClusterCull : uint8_t { kKeep, kBackface, kOutsideBox };
 // much (in cosine) inside its back-facing cone, so snapping cannot turn one of its triangles.
 inline constexpr float kConeMargin = 0.05f;
 
-// X_cam = R X + t; `camera_in_model` = -R^T t. Conservative (see the file comment).
+// X_cam = R X + t; `camera_in_model` = -R^T t. Conservative (see the file comment). Never
+// kBackface where params.cull_backfaces is false.
 // The reference: one cluster at a time.
 ClusterCull CullCluster(const Cluster& c, const Eigen::Matrix3f& R, const Eigen::Vector3f& t,
                         const Eigen::Vector3f& camera_in_model, const RasterParams& params);

@@ -18,6 +18,7 @@ namespace mcpose::render {
 // edges as CullCluster compares them (x0 - 1, x1, y0 - 1, y1).
 struct CullConstants {
   float R[9], t[3], cam[3], fx, fy, cx, cy, z_near, box[4];
+  bool cull_backfaces;
 };
 }  // namespace mcpose::render
 #endif
@@ -56,8 +57,9 @@ void CullClustersImpl(const float* soa, size_t stride, size_t n, const CullConst
     const auto vz = hn::Sub(field(kApexZ), hn::Set(df, k.cam[2]));
     const auto len = hn::Sqrt(hn::Add(hn::Mul(vx, vx), hn::Add(hn::Mul(vy, vy), hn::Mul(vz, vz))));
     const auto dot = hn::Add(hn::Mul(vx, field(kAxisX)), hn::Add(hn::Mul(vy, field(kAxisY)), hn::Mul(vz, field(kAxisZ))));
-    const auto back = hn::And(hn::And(hn::Lt(cutoff, hn::Set(df, 1.0f - kConeMargin)), hn::Gt(len, zero)),
-                              hn::Ge(dot, hn::Mul(hn::Add(cutoff, hn::Set(df, kConeMargin)), len)));
+    const auto facing_away = hn::And(hn::And(hn::Lt(cutoff, hn::Set(df, 1.0f - kConeMargin)), hn::Gt(len, zero)),
+                                     hn::Ge(dot, hn::Mul(hn::Add(cutoff, hn::Set(df, kConeMargin)), len)));
+    const auto back = k.cull_backfaces ? facing_away : hn::Lt(one, zero);
 
     // The bounding sphere's cube.
     decltype(hn::Zero(df)) px, py, pz;
@@ -118,6 +120,7 @@ void CullClustersSimd(const ClusterSet& set, const Eigen::Matrix3f& R, const Eig
     k.t[i] = t[i], k.cam[i] = camera_in_model[i];
   }
   k.fx = params.fx, k.fy = params.fy, k.cx = params.cx, k.cy = params.cy, k.z_near = params.z_near_m;
+  k.cull_backfaces = params.cull_backfaces;
   const PixelRect& box = params.box;
   k.box[0] = static_cast<float>(box.x0) - 1.0f, k.box[1] = static_cast<float>(box.x1);
   k.box[2] = static_cast<float>(box.y0) - 1.0f, k.box[3] = static_cast<float>(box.y1);

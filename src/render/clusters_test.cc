@@ -109,7 +109,8 @@ TEST(Clusters, CullsAreConservativeOnRandomPoses) {
 
 // The vector of clusters against CullCluster on every target: the same decision for every
 // cluster, over poses that put spheres and corners behind the near plane, boxes in and out of
-// view, and cluster counts that leave a partial last vector (1 to 17 clusters, and all).
+// view, and cluster counts that leave a partial last vector (1 to 17 clusters, and all). With
+// back faces rasterized (every third pose), no cluster is dropped as back-facing.
 TEST(Clusters, SimdCullingMatchesTheReferenceOnEveryTarget) {
   const Mesh m = Blob();
   const ClusterSet all = ClusterSet::Build(m);
@@ -128,8 +129,9 @@ TEST(Clusters, SimdCullingMatchesTheReferenceOnEveryTarget) {
     hwy::SetSupportedTargetsForTest(target);
     std::mt19937_64 gen(17);
     std::uniform_real_distribution<float> u(-1, 1);
-    int64_t seen[3] = {0, 0, 0};
+    int64_t seen[3] = {0, 0, 0}, back_without_culling = 0, outside_without_culling = 0;
     for (int trial = 0; trial < 400; ++trial) {
+      p.cull_backfaces = trial % 3 != 0;
       const Eigen::Matrix3f R =
           Eigen::AngleAxisf(3.14159f * u(gen), Eigen::Vector3f(u(gen), u(gen), u(gen)).normalized()).toRotationMatrix();
       // Every fourth pose close enough that some spheres and boxes cross the near plane.
@@ -146,11 +148,17 @@ TEST(Clusters, SimdCullingMatchesTheReferenceOnEveryTarget) {
           ASSERT_EQ(static_cast<int>(simd[i]), static_cast<int>(ref))
               << hwy::TargetName(target) << " trial " << trial << " cluster " << i << " of " << cs.clusters.size();
           ++seen[static_cast<int>(ref)];
+          if (!p.cull_backfaces) {
+            back_without_culling += ref == ClusterCull::kBackface;
+            outside_without_culling += ref == ClusterCull::kOutsideBox;
+          }
         }
         EXPECT_EQ(static_cast<int>(simd.back()), 7) << "wrote past the last cluster";
       }
     }
     for (int64_t n : seen) EXPECT_GT(n, 1000) << hwy::TargetName(target);
+    EXPECT_EQ(back_without_culling, 0) << hwy::TargetName(target);
+    EXPECT_GT(outside_without_culling, 300) << hwy::TargetName(target);
   }
   hwy::SetSupportedTargetsForTest(0);
 }
