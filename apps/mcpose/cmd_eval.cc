@@ -58,6 +58,10 @@ Status RunEval(const EvalArgs& a) {
               "ADD<2", "ADD<4", "AUC", "ADDS<2", "ADDS<4", "AUC", "(-S)<2", "(-S)<4", "AUC");
   for (const auto& s : report.per_object) PrintRow(s);
   PrintRow(report.overall);
+  if (report.unmatched_rows > 0) {
+    std::printf("%d of %zu result rows match no target (no visible ground-truth instance of their object in an "
+                "evaluated image): not scored.\n", report.unmatched_rows, results.size());
+  }
 
   if (!a.json.empty()) {
     nlohmann::json inst = nlohmann::json::array();
@@ -70,7 +74,8 @@ Status RunEval(const EvalArgs& a) {
     nlohmann::json per_object = nlohmann::json::array();
     for (const auto& s : report.per_object) per_object.push_back(SummaryJson(s));
     nlohmann::json doc = {{"results", a.results}, {"overall", SummaryJson(report.overall)},
-                          {"per_object", per_object}, {"instances", inst}};
+                          {"per_object", per_object}, {"unmatched_rows", report.unmatched_rows},
+                          {"instances", inst}};
     MCPOSE_RETURN_IF_ERROR(WriteFileAtomically(a.json, doc.dump(1) + "\n"));
   }
   return Status::Ok();

@@ -54,6 +54,9 @@ struct EvalReport {
   std::vector<InstanceEval> instances;
   std::vector<AccuracySummary> per_object;  // sorted by obj_id
   AccuracySummary overall;
+  // Result rows whose (scene_id, im_id, obj_id) matches no target (no visible ground-truth
+  // instance of that object in an evaluated frame): not scored.
+  int unmatched_rows = 0;
 };
 
 // Targets: every ground-truth instance with at least one visible pixel, in every frame of the

@@ -78,9 +78,12 @@ StatusOr<std::vector<BenchObject>> RunBench(const Dataset& ds, const BenchOption
   std::vector<int> ids = options.obj_ids;
   if (ids.empty()) ids = {2, 4, 5, 9, 10};
   const std::vector<int> known = ds.ObjectIds();
-  for (int id : ids)
-    if (!std::binary_search(known.begin(), known.end(), id))
-      return InvalidArgument("--objects: unknown obj_id " + std::to_string(id) + " in " + ds.root());
+  for (size_t i = 0; i < ids.size(); ++i) {
+    if (!std::binary_search(known.begin(), known.end(), ids[i]))
+      return InvalidArgument("--objects: unknown obj_id " + std::to_string(ids[i]) + " in " + ds.root());
+    if (std::find(ids.begin(), ids.begin() + static_cast<std::ptrdiff_t>(i), ids[i]) != ids.begin() + i)
+      return InvalidArgument("--objects: obj_id " + std::to_string(ids[i]) + " is listed twice");
+  }
   if (options.iterations < 1) return InvalidArgument("--iterations must be >= 1");
   if (options.render_repeats < 1) return InvalidArgument("--repeats must be >= 1");
   for (const auto& b : options.baselines)

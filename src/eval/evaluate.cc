@@ -67,6 +67,7 @@ double FiniteOrInfinity(double e) { return std::isfinite(e) ? e : INFINITY; }
 //    both are scored against the same best row.
 //  * Among rows with the same key the highest score wins; on a tie, the first row.
 //  * Frames named by `detections` but absent from the dataset are ignored.
+//  * Rows that match no target are counted (unmatched_rows), not scored.
 //  * A non-finite error (a result with a NaN pose) is stored as +infinity: a failure.
 StatusOr<EvalReport> Evaluate(const Dataset& dataset, const std::vector<PoseResult>& results,
                               const std::vector<Detection>* detections,
@@ -93,6 +94,7 @@ StatusOr<EvalReport> Evaluate(const Dataset& dataset, const std::vector<PoseResu
   }
 
   EvalReport report;
+  std::set<ResultKey> matched;  // keys of the rows that met a target
   std::map<int, std::vector<Eigen::Vector3f>> eval_points;  // per obj_id, loaded once
   for (const FrameKey& key : frames) {
     MCPOSE_ASSIGN_OR_RETURN(const Frame frame, dataset.LoadFrame(key));
@@ -109,6 +111,7 @@ StatusOr<EvalReport> Evaluate(const Dataset& dataset, const std::vector<PoseResu
       e.visible_pixels = visible;
 
       const auto row = best.find(ResultKey{key.scene_id, key.image_id, gt.obj_id});
+      if (row != best.end()) matched.insert(row->first);
       if (row == best.end()) {
         e.add_m = e.adds_m = e.add_or_adds_m = INFINITY;
       } else {
@@ -132,6 +135,9 @@ StatusOr<EvalReport> Evaluate(const Dataset& dataset, const std::vector<PoseResu
       report.instances.push_back(e);
     }
   }
+
+  for (const PoseResult& r : results)
+    report.unmatched_rows += !matched.contains(ResultKey{r.scene_id, r.im_id, r.obj_id});
 
   // Summaries: one row per object with targets, then all targets together.
   std::map<int, std::vector<const InstanceEval*>> by_object;

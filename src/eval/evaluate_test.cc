@@ -106,6 +106,7 @@ TEST_F(EvalFakeTest, TargetsAreVisibleInstancesOnly) {
   EXPECT_EQ(report->overall.name, "ALL");
   EXPECT_EQ(report->overall.instances, 4);
   EXPECT_EQ(report->overall.with_result, 3);
+  EXPECT_EQ(report->unmatched_rows, 2);  // the hidden object's row and frame 7/7's
 }
 
 TEST_F(EvalFakeTest, MissingResultIsAFailure) {
@@ -195,6 +196,7 @@ TEST_F(EvalFakeTest, DetectionsLimitTheFrames) {
   EXPECT_NE(Find(*report, kF12, kBox), nullptr);
   EXPECT_NE(Find(*report, kF21, kBowl), nullptr);
   EXPECT_EQ(report->overall.with_result, 1);
+  EXPECT_EQ(report->unmatched_rows, 5);  // frame 1/1's four rows and frame 7/7's
 
   const std::vector<Detection> none;
   auto empty = Evaluate(ds_, Results(), &none, EvalOptions());
