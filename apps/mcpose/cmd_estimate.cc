@@ -193,7 +193,7 @@ void AddEstimateCommand(CLI::App& app, Status* status) {
                 "Leave rendered pixels hidden behind observed surfaces out of N_r (default on; --no-occlusion-aware: the paper's N_r)");
   cmd->add_flag("--no-backface-culling", args->no_culling, "Rasterize back faces too");
   cmd->add_flag("--cluster-culling,!--no-cluster-culling", o.cluster_culling,
-                "Drop whole triangle clusters outside the box or facing away before setup (fixed, simd; with LOD; default on)");
+                "Drop whole triangle clusters outside the box or (with back-face culling) facing away before setup (fixed, simd; with LOD; default on)");
   cmd->add_flag("--batched-setup,!--no-batched-setup", o.batched_setup,
                 "Classify and set up triangles a SIMD vector at a time (fixed, simd; same results; default on)");
   AddSimdTargetOption(cmd, &args->simd_target);

@@ -88,8 +88,9 @@ struct EstimatorOptions {
   // (render/lod.h). 0 = always the full mesh.
   double lod_error_px = 1.0;
   // Cluster culling (fixed and simd engines, with LOD): drop whole meshoptimizer clusters of up
-  // to 16 triangles that lie outside the box or face away, before triangle setup; the same
-  // inlier counts as culling triangle by triangle in the tests (render/clusters.h).
+  // to 16 triangles that lie outside the box or face away (when back faces are culled), before
+  // triangle setup; the same inlier counts as culling triangle by triangle in the tests
+  // (render/clusters.h).
   bool cluster_culling = true;
   // Batched triangle setup (fixed and simd engines): snap each sample's vertices once, decide
   // back-facing, outside-box and between-pixel triangles a SIMD vector at a time, and set up the
