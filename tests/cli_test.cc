@@ -308,8 +308,8 @@ TEST(Cli, BenchWritesEveryFieldAndBaselinesAgree) {
 
   // Bad input: one clear error, no JSON, nothing on stdout.
   fs::remove(json);
-  for (const std::string& bad : {std::string("--objects 99"), std::string("--objects 10,10"), std::string("--baselines vulkan"),
-                                 std::string("--iterations 0"), std::string("--engine gpu"),
+  for (const std::string& bad : {std::string("--objects 99"), std::string("--objects 10,10"),
+                                 std::string("--baselines vulkan"), std::string("--iterations 0"), std::string("--engine gpu"),
                                  std::string("--simd-target AVX9")}) {
     const CliResult e = RunCli("bench --dataset " + testing::YcbvDir() + " " + bad + " --json " + json.string(), dir);
     EXPECT_EQ(e.exit_code, 1) << bad;

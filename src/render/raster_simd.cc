@@ -80,7 +80,7 @@ HWY_INLINE TriangleLanes<DF> BroadcastTriangle(DF df, const CompactTriangle& t) 
 
 // The row walk with vectors of tag DF: the same operations per lane at any width. Every vector
 // of a row is written back, covered or not: a test per vector for skipping the empty ones
-// (22 % mispredicted in cachegrind's model on the tomato can) cost more than it saved.
+// (22 % mispredicted in valgrind's branch model on the tomato can) cost more than it saved.
 template <class DF>
 HWY_INLINE LaneCounts<DF> FillRows(DF df, const CompactTriangle& HWY_RESTRICT t, float* HWY_RESTRICT zbuf,
                                    int stride) {
