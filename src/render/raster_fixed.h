@@ -87,8 +87,9 @@ TriangleSetup SetupSnappedTriangle(const int32_t X[3], const int32_t Y[3], const
 //                       pixels wide take blocks of rows (AVX2: 4 x 2 pixels per vector;
 //                       AVX-512: 4 x 4 or 8 x 2) where the box is at least the block's width;
 //                       other triangles up to 4 vectors wide, a row at a time with its vectors
-//                       unrolled; wider ones a row at a time in a loop over vectors. Bit-identical to FillTriangleScalar (same
-//                       integer coverage, same float operations, no FMA contraction).
+//                       unrolled; wider ones a row at a time in a loop over vectors.
+//                       Bit-identical to FillTriangleScalar (same integer coverage, same float
+//                       operations, no FMA contraction).
 int64_t FillTriangleScalar(const FixedTriangle& t, float* zbuf, int stride);
 int64_t FillTriangleSimd(const FixedTriangle& t, float* zbuf, int stride);
 // FillTriangleSimd of Widen(t): the same kernel, without the conversion.
