@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -317,6 +318,32 @@ TEST(Cli, BenchWritesEveryFieldAndBaselinesAgree) {
     EXPECT_FALSE(fs::exists(json)) << bad;
     EXPECT_EQ(e.out, "") << bad;
   }
+}
+
+// `mcpose bench --no-backface-culling`: no triangle or cluster is culled as facing away, more
+// triangles reach the rows, and both baselines, which then keep back faces too, still count the
+// same inliers.
+TEST(Cli, BenchWithoutBackfaceCullingKeepsBackFacesInEveryRenderer) {
+  const fs::path dir = testing::TempDir("bench_no_culling");
+  std::map<bool, nlohmann::json> runs;
+  for (const bool culling : {true, false}) {
+    const fs::path json = dir / (culling ? "on.json" : "off.json");
+    const CliResult r = RunCli("bench --dataset " + testing::YcbvDir() + " --objects 5 --samples 120 --iterations 2 "
+                               "--repeats 1 --baselines embree,osmesa --json " + json.string() +
+                               (culling ? "" : " --no-backface-culling"),
+                               dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    runs[culling] = nlohmann::json::parse(ReadText(json));
+    EXPECT_EQ(runs[culling]["options"]["backface_culling"].get<bool>(), culling);
+  }
+  const auto& on = runs[true]["objects"][0];
+  const auto& off = runs[false]["objects"][0];
+  EXPECT_GT(on["counters"]["culled_backface"].get<int64_t>(), 0);
+  EXPECT_GT(on["counters"]["clusters_culled_backface"].get<int64_t>(), 0);
+  EXPECT_EQ(off["counters"]["culled_backface"].get<int64_t>(), 0);
+  EXPECT_EQ(off["counters"]["clusters_culled_backface"].get<int64_t>(), 0);
+  EXPECT_GT(off["triangles_after_cull"].get<double>(), on["triangles_after_cull"].get<double>());
+  for (const auto& b : off["baselines"]) EXPECT_LT(b["inliers_rel_diff"].get<double>(), 0.01) << b.dump();
 }
 
 TEST(Cli, BopAndNativeLayoutsGiveTheSamePoses) {

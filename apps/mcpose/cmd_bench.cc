@@ -133,6 +133,7 @@ Status RunBenchCommand(BenchArgs& a) {
                             {"lod_px", o.lod_error_px},
                             {"pixel_stride", o.pixel_stride},
                             {"max_grid_pixels", o.max_grid_pixels},
+                            {"backface_culling", o.backface_culling},
                             {"cluster_culling", o.cluster_culling},
                             {"batched_setup", o.batched_setup},
                             {"simd_target", ActiveSimdTarget()},
@@ -165,8 +166,10 @@ void AddBenchCommand(CLI::App& app, Status* status) {
   cmd->add_option("--lod-px", o.lod_error_px, "Level-of-detail budget in pixels; 0 = full mesh")->capture_default_str();
   cmd->add_option("--pixel-stride", o.pixel_stride, "Score every s-th pixel in x and y of each box")->capture_default_str();
   cmd->add_option("--max-grid-pixels", o.max_grid_pixels, "Coarser stride for boxes with more grid pixels; 0 = none")->capture_default_str();
+  cmd->add_flag("--backface-culling,!--no-backface-culling", o.backface_culling,
+                "Cull back-facing triangles, in mcpose and in the baselines (default on)");
   cmd->add_flag("--cluster-culling,!--no-cluster-culling", o.cluster_culling,
-                "Drop whole triangle clusters before setup (default on)");
+                "Drop whole triangle clusters outside the box or (with back-face culling) facing away before setup (default on)");
   cmd->add_flag("--batched-setup,!--no-batched-setup", o.batched_setup,
                 "Classify and set up triangles a SIMD vector at a time (default on)");
   AddSimdTargetOption(cmd, &args->simd_target);
