@@ -127,20 +127,22 @@ TriangleSetup SetupSnappedTriangle(const int32_t X[3], const int32_t Y[3], const
     ft.step_y[k] = dx * kOne;
   }
 
-  // 1/z as a plane over pixel coordinates: inv_z = A x + B y + C (box-relative pixels).
-  const double inv_area = 1.0 / static_cast<double>(-area);
-  const double iz[3] = {1.0 / z[ia], 1.0 / z[ib], 1.0 / z[ic]};
+  // 1/z as a plane over pixel coordinates: inv_z = A x + B y + C (box-relative pixels), in
+  // float, each operation in this order (the batched setup repeats it lane by lane). The
+  // integer terms are exact before their one conversion to float.
+  const float inv_area = 1.0f / static_cast<float>(-area);
+  const float iz[3] = {1.0f / z[ia], 1.0f / z[ib], 1.0f / z[ic]};
   // Barycentric weight of vertex k = E_k(p) / (-area); E_k is linear in p with gradient
-  // (-dy_k, dx_k) per fixed-point unit.
-  double A = 0, B = 0, C = 0;
+  // (-dy_k, dx_k) per fixed-point unit, and E_k(0, 0) = dy_k X_0 - dx_k Y_0.
+  float A = 0, B = 0, C = 0;
   for (int k = 0; k < 3; ++k) {
-    const double dx = X[e1[k]] - X[e0[k]], dy = Y[e1[k]] - Y[e0[k]];
-    const double wk = iz[k] * inv_area;
-    A += -dy * kOne * wk;
-    B += dx * kOne * wk;
-    C += (dx * (-double(Y[e0[k]])) - dy * (-double(X[e0[k]]))) * wk;
+    const int64_t dx = X[e1[k]] - X[e0[k]], dy = Y[e1[k]] - Y[e0[k]];
+    const float wk = iz[k] * inv_area;
+    A += static_cast<float>(-dy * kOne) * wk;
+    B += static_cast<float>(dx * kOne) * wk;
+    C += static_cast<float>(dy * X[e0[k]] - dx * Y[e0[k]]) * wk;
   }
-  ft.A = static_cast<float>(A), ft.B = static_cast<float>(B), ft.C = static_cast<float>(C);
+  ft.A = A, ft.B = B, ft.C = C;
   // Edge functions fit in 32 bits for the SIMD rows when the span is small enough.
   ft.simd_fits = max_x - min_x <= kMaxSimdSpanPx * kOne && max_y - min_y <= kMaxSimdSpanPx * kOne;
   return TriangleSetup::kReady;

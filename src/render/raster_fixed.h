@@ -66,7 +66,7 @@ enum class TriangleSetup {
 };
 
 // Triangle setup of the fixed-point core: near-plane test, snapping to 1/16 pixel, orientation,
-// box and pixel-centre culls, then edge functions and the 1/z plane. The reasons are tested in
+// box and pixel-centre culls, then edge functions (exact integers) and the 1/z plane (float). The reasons are tested in
 // this order (a triangle gets the first that applies).
 TriangleSetup SetupFixedTriangle(const ScreenVertex& v0, const ScreenVertex& v1, const ScreenVertex& v2,
                                  const RasterParams& params, FixedTriangle* out);
@@ -148,8 +148,8 @@ size_t ClassifyTriangles(const SnappedVertices& snapped, std::span<const std::ar
 TriangleSetup SetupBatchedTriangle(std::span<const ScreenVertex> vertices, const int32_t* packed,
                                    const std::array<uint32_t, 3>& tri, const RasterParams& params, FixedTriangle* out);
 
-// SetupBatchedTriangle for many survivors at once, a SIMD vector of doubles at a time
-// (setup_simd.cc): for each j, ready[j] = 1 and out[j] = Compact of what SetupSnappedTriangle
+// SetupBatchedTriangle for many survivors at once, a SIMD vector of int32 and float lanes at a
+// time (setup_simd.cc; 8 triangles per vector with AVX2, 16 with AVX-512): for each j, ready[j] = 1 and out[j] = Compact of what SetupSnappedTriangle
 // sets up (bit-identical) when that would return kReady with simd_fits; ready[j] = 0 otherwise
 // (a deferred vertex, any cull, the float path, or a span too wide for the SIMD rows: the
 // caller runs SetupBatchedTriangle for it).

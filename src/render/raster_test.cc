@@ -188,6 +188,66 @@ TEST_P(FixedVsReference, CoverageAndDepthAgreeOnRandomTriangles) {
 
 INSTANTIATE_TEST_SUITE_P(Culling, FixedVsReference, ::testing::Bool());
 
+// The fixed-point setup's 1/z plane (float) against 1/z interpolated in double over the same
+// snapped vertices, at every pixel centre the edge functions cover: thin slivers and triangles
+// far from the box corner (where the plane's C extrapolates furthest) included. Measured
+// with the float setup: mean relative error 1.8e-6, worst 4.2e-4 (0.4 mm at 1 m), 600 pixels
+// from the corner of a 640 x 480 box; the plane computed in double and rounded to float gave
+// 0.7e-6 and 3.6e-4 on the same pixels (its evaluation in float dominates the worst case).
+TEST(RasterFixed, FloatDepthPlaneMatchesDoubleInterpolation) {
+  std::mt19937_64 gen(33);
+  RasterParams p;
+  p.box = PixelRect{0, 0, 640, 480};
+  p.cull_backfaces = false;  // these triangles face away: the setup reorders them
+  std::uniform_real_distribution<float> pos(0.f, 640.f), size(0.5f, 40.f), z(0.3f, 2.0f), thin(0.01f, 0.3f);
+  std::uniform_real_distribution<float> angle(0.f, 6.2831853f);
+  double worst = 0, sum = 0;
+  int64_t pixels = 0;
+  for (int trial = 0; trial < 4000; ++trial) {
+    // A triangle of random size or a sliver (one side much shorter than the others), anywhere.
+    const float cx = pos(gen), cy = pos(gen) * 0.75f, len = size(gen), a = angle(gen);
+    const float w = trial % 2 ? len * thin(gen) : size(gen);
+    const ScreenVertex v0{cx, cy, z(gen)};
+    const ScreenVertex v1{cx + len * std::cos(a), cy + len * std::sin(a), z(gen)};
+    const ScreenVertex v2{cx + w * std::cos(a + 1.5707963f), cy + w * std::sin(a + 1.5707963f), z(gen)};
+    FixedTriangle t;
+    if (SetupFixedTriangle(v0, v1, v2, p, &t) != TriangleSetup::kReady) continue;
+    // The snapped vertices, as the setup snaps them.
+    const ScreenVertex* v[3] = {&v0, &v1, &v2};
+    int64_t X[3], Y[3];
+    for (int k = 0; k < 3; ++k) X[k] = std::lrint(v[k]->u * kSubpixelOne), Y[k] = std::lrint(v[k]->v * kSubpixelOne);
+    const double area = double((X[1] - X[0]) * (Y[2] - Y[0]) - (Y[1] - Y[0]) * (X[2] - X[0]));
+    int64_t w_row[3] = {t.w_row[0], t.w_row[1], t.w_row[2]};
+    for (int32_t y = t.y_lo; y <= t.y_hi; ++y) {
+      int64_t e[3] = {w_row[0], w_row[1], w_row[2]};
+      for (int32_t x = t.x_lo; x <= t.x_hi; ++x) {
+        if ((e[0] | e[1] | e[2]) >= 0) {
+          // Barycentric weights of the snapped triangle at the pixel centre, in double.
+          const int64_t px = int64_t{x} * kSubpixelOne, py = int64_t{y} * kSubpixelOne;
+          double inv_z = 0;
+          for (int k = 0; k < 3; ++k) {
+            const int b = (k + 1) % 3, c = (k + 2) % 3;  // edge b -> c, opposite vertex k
+            const double ek = double((X[c] - X[b]) * (py - Y[b]) - (Y[c] - Y[b]) * (px - X[b]));
+            inv_z += ek / area / v[k]->z;
+          }
+          const float z_plane = 1.0f / (t.A * static_cast<float>(x) + (t.B * static_cast<float>(y) + t.C));
+          const double rel = std::fabs(z_plane * inv_z - 1.0);
+          worst = std::max(worst, rel);
+          sum += rel;
+          ++pixels;
+          ASSERT_LT(rel, 1e-3) << "trial " << trial << " pixel " << x << ", " << y;
+        }
+        for (int k = 0; k < 3; ++k) e[k] += t.step_x[k];
+      }
+      for (int k = 0; k < 3; ++k) w_row[k] += t.step_y[k];
+    }
+  }
+  EXPECT_GT(pixels, 100000);
+  EXPECT_LT(sum / pixels, 5e-6);
+  std::printf("float depth plane: relative depth error mean %.3g, worst %.3g over %lld pixels\n", sum / pixels,
+              worst, static_cast<long long>(pixels));
+}
+
 TEST(RasterFixed, HugeAndOffscreenTrianglesFallBackToFloatPath) {
   // One triangle far larger than the integer range and partly behind the box: the result must
   // equal the reference exactly, since both take the float path.

@@ -144,8 +144,23 @@ size_t ClassifyTrianglesImpl(const int32_t* packed, const uint32_t* tri, size_t 
   return kept;
 }
 
+#if HWY_TARGET != HWY_SCALAR
+// Stores the 128-bit blocks of v, block b at dst + b * block_stride (int32 units).
+template <class DI>
+HWY_INLINE void StoreBlocks(DI di, hn::Vec<DI> v, int32_t* dst, size_t block_stride) {
+  constexpr size_t kLanes = hn::MaxLanes(DI());
+  if constexpr (kLanes <= 4) {
+    hn::StoreU(v, di, dst);
+  } else {
+    const hn::Half<DI> dh;
+    StoreBlocks(dh, hn::LowerHalf(dh, v), dst, block_stride);
+    StoreBlocks(dh, hn::UpperHalf(dh, v), dst + block_stride * (kLanes / 8), block_stride);
+  }
+}
+#endif  // HWY_TARGET != HWY_SCALAR
+
 // Writes lane j of the 16 field rows o[f] to out[j], for every lane, by 4 x 4 transposes
-// within each 128-bit block; false (nothing written) where the lanes are not 4 or 8 int32.
+// within each 128-bit block; false (nothing written) where the lanes are fewer than 4 int32.
 template <class DI, size_t kMax>
 HWY_INLINE bool StoreTransposed(DI di, const int32_t (&o)[16][kMax], CompactTriangle* out) {
 #if HWY_TARGET == HWY_SCALAR
@@ -153,7 +168,7 @@ HWY_INLINE bool StoreTransposed(DI di, const int32_t (&o)[16][kMax], CompactTria
   return false;
 #else
   constexpr size_t kLanes = hn::MaxLanes(DI());
-  if constexpr (kLanes == 4 || kLanes == 8) {
+  if constexpr (kLanes >= 4 && kLanes % 4 == 0) {
     static_assert(sizeof(CompactTriangle) == 16 * sizeof(int32_t));
     const hn::Repartition<int64_t, DI> d64;
     int32_t* dst = reinterpret_cast<int32_t*>(out);
@@ -164,20 +179,12 @@ HWY_INLINE bool StoreTransposed(DI di, const int32_t (&o)[16][kMax], CompactTria
       const auto ab_hi = hn::BitCast(d64, hn::InterleaveUpper(di, a, b));
       const auto cd_lo = hn::BitCast(d64, hn::InterleaveLower(di, c, d));
       const auto cd_hi = hn::BitCast(d64, hn::InterleaveUpper(di, c, d));
-      // Row r holds lane r's fields 4g..4g+3 (and lane r + 4's in the upper block).
+      // Row r holds lane r's fields 4g..4g+3 in its first block, lane r + 4's in the next.
       const decltype(a) rows[4] = {hn::BitCast(di, hn::InterleaveLower(d64, ab_lo, cd_lo)),
                                    hn::BitCast(di, hn::InterleaveUpper(d64, ab_lo, cd_lo)),
                                    hn::BitCast(di, hn::InterleaveLower(d64, ab_hi, cd_hi)),
                                    hn::BitCast(di, hn::InterleaveUpper(d64, ab_hi, cd_hi))};
-      for (int r = 0; r < 4; ++r) {
-        if constexpr (kLanes == 4) {
-          hn::StoreU(rows[r], di, dst + 16 * r + 4 * g);
-        } else {
-          const hn::Half<DI> dh;
-          hn::StoreU(hn::LowerHalf(dh, rows[r]), dh, dst + 16 * r + 4 * g);
-          hn::StoreU(hn::UpperHalf(dh, rows[r]), dh, dst + 16 * (r + 4) + 4 * g);
-        }
-      }
+      for (int r = 0; r < 4; ++r) StoreBlocks(di, rows[r], dst + 16 * r + 4 * g, 4 * 16);
     }
     return true;
   } else {
@@ -187,35 +194,36 @@ HWY_INLINE bool StoreTransposed(DI di, const int32_t (&o)[16][kMax], CompactTria
 #endif
 }
 
-// SetupSnappedTriangle for many triangles, a vector of doubles at a time: the same integer
-// tests and the same double operations in the same order, lane by lane, so every triangle it
-// sets up is bit-identical to the scalar setup, written in CompactTriangle form. Lanes that
-// are not ready (a deferred vertex, degenerate, back-facing, outside the box, between pixels,
-// too wide for the fixed point or for the SIMD rows) get ready[j] = 0.
+// SetupSnappedTriangle for many triangles, a vector of int32 and float lanes at a time: the
+// same integer tests and the same float operations in the same order, lane by lane, so every
+// triangle it sets up is bit-identical to the scalar setup, written in CompactTriangle form.
+// Integer arithmetic wraps in lanes whose spans exceed the SIMD rows' (those are not ready);
+// in the others every value is exact in 32 bits (|X|, |Y| < 2^15, spans <= 2^14 sub-pixels:
+// products below 2^29, edge functions below 2^31). Lanes that are not ready (a deferred
+// vertex, degenerate, back-facing, outside the box, between pixels, too wide for the SIMD
+// rows) get ready[j] = 0.
 void SetupSurvivorsImpl(const int32_t* packed, const ScreenVertex* vertices, const uint32_t* tri,
                         const uint32_t* survivors, size_t count, int32_t box_w, int32_t box_h, bool cull_backfaces,
                         CompactTriangle* out, uint8_t* ready) {
-  const hn::ScalableTag<double> dd;
-  const hn::Rebind<float, decltype(dd)> df;
-  const hn::Rebind<int32_t, decltype(dd)> di;
-  const size_t lanes = hn::Lanes(dd);
-  constexpr size_t kMax = HWY_MAX_BYTES / sizeof(double);
+  const hn::ScalableTag<int32_t> di;
+  const hn::RebindToFloat<decltype(di)> df;
+  const size_t lanes = hn::Lanes(di);
+  constexpr size_t kMax = HWY_MAX_BYTES / sizeof(int32_t);
   static_assert(sizeof(ScreenVertex) == 3 * sizeof(float));
   const int32_t* tri_i = reinterpret_cast<const int32_t*>(tri);
   const int32_t* surv_i = reinterpret_cast<const int32_t*>(survivors);
   const float* z_base = &vertices[0].z;
   const auto three = hn::Set(di, 3), deferred = hn::Set(di, kSnappedDeferred);
-  // The results in CompactTriangle's field order, a row of lanes per field: the integers
-  // converted a vector at a time (exact for the lanes that are ready: they fit the SIMD rows,
-  // so |value| < 2^30), A, B, C as their bits.
+  // The results in CompactTriangle's field order, a row of lanes per field (A, B, C as bits).
   constexpr int kFields = sizeof(CompactTriangle) / sizeof(int32_t);
   HWY_ALIGN int32_t o[kFields][kMax];
   HWY_ALIGN int32_t o_ready[kMax];
-  const auto zero = hn::Zero(dd), one = hn::Set(dd, 1.0), sub = hn::Set(dd, static_cast<double>(kSubpixelOne));
-  const auto x_last = hn::Set(dd, box_w - 1), y_last = hn::Set(dd, box_h - 1);
-  const auto x_max = hn::Set(dd, (box_w - 1) * kSubpixelOne), y_max = hn::Set(dd, (box_h - 1) * kSubpixelOne);
-  const auto span_max = hn::Set(dd, kMaxSpanPx * kSubpixelOne), simd_span = hn::Set(dd, kMaxSimdSpanPx * kSubpixelOne);
-  const auto round_up = hn::Set(dd, kSubpixelOne - 1), inv_sub = hn::Set(dd, 1.0 / kSubpixelOne);
+  const auto zero = hn::Zero(di), one = hn::Set(di, 1);
+  const auto fzero = hn::Zero(df), fone = hn::Set(df, 1.0f);
+  const auto x_last = hn::Set(di, box_w - 1), y_last = hn::Set(di, box_h - 1);
+  const auto x_max = hn::Set(di, (box_w - 1) * kSubpixelOne), y_max = hn::Set(di, (box_h - 1) * kSubpixelOne);
+  const auto simd_span = hn::Set(di, kMaxSimdSpanPx * kSubpixelOne + 1);
+  const auto round_up = hn::Set(di, kSubpixelOne - 1);
   for (size_t first = 0; first < count; first += lanes) {
     // The survivors' vertices, gathered; lanes past the end repeat the last survivor.
     decltype(hn::Zero(di)) sv;
@@ -227,70 +235,76 @@ void SetupSurvivorsImpl(const int32_t* packed, const ScreenVertex* vertices, con
       sv = hn::Load(di, tail);
     }
     const auto t3 = hn::Mul(sv, three);
-    const decltype(t3) v[3] = {hn::GatherIndex(di, tri_i, t3), hn::GatherIndex(di, tri_i, hn::Add(t3, hn::Set(di, 1))),
+    const decltype(t3) v[3] = {hn::GatherIndex(di, tri_i, t3), hn::GatherIndex(di, tri_i, hn::Add(t3, one)),
                                hn::GatherIndex(di, tri_i, hn::Add(t3, hn::Set(di, 2)))};
-    decltype(hn::Zero(dd)) x[3], y[3], z[3];
-    auto n_deferred = hn::Zero(di);
+    decltype(hn::Zero(di)) x[3], y[3];
+    decltype(hn::Zero(df)) z[3];
+    auto any_deferred = hn::Lt(zero, zero);
     for (int k = 0; k < 3; ++k) {
       const auto p = hn::GatherIndex(di, packed, v[k]);
-      n_deferred = hn::Sub(n_deferred, hn::VecFromMask(di, hn::Eq(p, deferred)));
-      x[k] = hn::PromoteTo(dd, hn::ShiftRight<16>(p));
-      y[k] = hn::PromoteTo(dd, hn::ShiftRight<16>(hn::ShiftLeft<16>(p)));
-      z[k] = hn::PromoteTo(dd, hn::GatherIndex(df, z_base, hn::Mul(v[k], three)));
+      any_deferred = hn::Or(any_deferred, hn::Eq(p, deferred));
+      x[k] = hn::ShiftRight<16>(p);
+      y[k] = hn::ShiftRight<16>(hn::ShiftLeft<16>(p));
+      z[k] = hn::GatherIndex(df, z_base, hn::Mul(v[k], three));
     }
-    const auto X0 = x[0], Y0 = y[0], Z0 = z[0];
-    auto X1 = x[1], Y1 = y[1], Z1 = z[1];
-    auto X2 = x[2], Y2 = y[2], Z2 = z[2];
-    // Orientation (exact: products below 2^34); back faces swap b and c when not culled.
+    const auto X0 = x[0], Y0 = y[0];
+    const auto Z0 = z[0];
+    auto X1 = x[1], Y1 = y[1], X2 = x[2], Y2 = y[2];
+    auto Z1 = z[1], Z2 = z[2];
+    // Orientation; back faces swap b and c when not culled.
     auto area = hn::Sub(hn::Mul(hn::Sub(X1, X0), hn::Sub(Y2, Y0)), hn::Mul(hn::Sub(Y1, Y0), hn::Sub(X2, X0)));
     const auto pos = hn::Gt(area, zero);
-    auto ok = hn::And(hn::Ne(area, zero), hn::Eq(hn::PromoteTo(dd, n_deferred), zero));
+    auto ok = hn::AndNot(any_deferred, hn::Ne(area, zero));
     if (cull_backfaces) {
       ok = hn::AndNot(pos, ok);
     } else {
-      const auto sx = hn::IfThenElse(pos, X2, X1), sy = hn::IfThenElse(pos, Y2, Y1), sz = hn::IfThenElse(pos, Z2, Z1);
-      X2 = hn::IfThenElse(pos, X1, X2), Y2 = hn::IfThenElse(pos, Y1, Y2), Z2 = hn::IfThenElse(pos, Z1, Z2);
+      const auto sx = hn::IfThenElse(pos, X2, X1), sy = hn::IfThenElse(pos, Y2, Y1);
+      const auto sz = hn::IfThenElse(hn::RebindMask(df, pos), Z2, Z1);
+      X2 = hn::IfThenElse(pos, X1, X2), Y2 = hn::IfThenElse(pos, Y1, Y2);
+      Z2 = hn::IfThenElse(hn::RebindMask(df, pos), Z1, Z2);
       X1 = sx, Y1 = sy, Z1 = sz;
       area = hn::IfThenElse(pos, hn::Neg(area), area);
     }
-    // Bounding box, box and span tests, the pixel range (floor of exact multiples of 1/16).
+    // Bounding box, box and span tests, the pixel range (ceil and floor of multiples of 1/16).
     const auto min_x = hn::Min(hn::Min(X0, X1), X2), max_x = hn::Max(hn::Max(X0, X1), X2);
     const auto min_y = hn::Min(hn::Min(Y0, Y1), Y2), max_y = hn::Max(hn::Max(Y0, Y1), Y2);
     ok = hn::AndNot(hn::Or(hn::Or(hn::Lt(max_x, zero), hn::Gt(min_x, x_max)),
                            hn::Or(hn::Lt(max_y, zero), hn::Gt(min_y, y_max))), ok);
-    ok = hn::AndNot(hn::Or(hn::Gt(hn::Sub(max_x, min_x), span_max), hn::Gt(hn::Sub(max_y, min_y), span_max)), ok);
-    const auto x_lo = hn::Max(zero, hn::Floor(hn::Mul(hn::Add(min_x, round_up), inv_sub)));
-    const auto x_hi = hn::Min(x_last, hn::Floor(hn::Mul(max_x, inv_sub)));
-    const auto y_lo = hn::Max(zero, hn::Floor(hn::Mul(hn::Add(min_y, round_up), inv_sub)));
-    const auto y_hi = hn::Min(y_last, hn::Floor(hn::Mul(max_y, inv_sub)));
+    const auto fits = hn::And(hn::Lt(hn::Sub(max_x, min_x), simd_span), hn::Lt(hn::Sub(max_y, min_y), simd_span));
+    const auto x_lo = hn::Max(zero, hn::ShiftRight<kSubpixelBits>(hn::Add(min_x, round_up)));
+    const auto x_hi = hn::Min(x_last, hn::ShiftRight<kSubpixelBits>(max_x));
+    const auto y_lo = hn::Max(zero, hn::ShiftRight<kSubpixelBits>(hn::Add(min_y, round_up)));
+    const auto y_hi = hn::Min(y_last, hn::ShiftRight<kSubpixelBits>(max_y));
     ok = hn::AndNot(hn::Or(hn::Gt(x_lo, x_hi), hn::Gt(y_lo, y_hi)), ok);
-    const auto fits = hn::And(hn::Le(hn::Sub(max_x, min_x), simd_span), hn::Le(hn::Sub(max_y, min_y), simd_span));
 
     // Edge functions of c->b, a->c, b->a (opposite a, b, c) and the 1/z plane, as the scalar.
     const decltype(X0) P0x[3] = {X2, X0, X1}, P0y[3] = {Y2, Y0, Y1}, P1x[3] = {X1, X2, X0}, P1y[3] = {Y1, Y2, Y0};
-    const decltype(X0) iz[3] = {hn::Div(one, Z0), hn::Div(one, Z1), hn::Div(one, Z2)};
-    const auto px0 = hn::Mul(x_lo, sub), py0 = hn::Mul(y_lo, sub);
-    const auto inv_area = hn::Div(one, hn::Neg(area));
-    auto A = zero, B = zero, C = zero;
+    const decltype(Z0) iz[3] = {hn::Div(fone, Z0), hn::Div(fone, Z1), hn::Div(fone, Z2)};
+    const auto px0 = hn::ShiftLeft<kSubpixelBits>(x_lo), py0 = hn::ShiftLeft<kSubpixelBits>(y_lo);
+    const auto inv_area = hn::Div(fone, hn::ConvertTo(df, hn::Neg(area)));
+    auto A = fzero, B = fzero, C = fzero;
     for (int k = 0; k < 3; ++k) {
       const auto dx = hn::Sub(P1x[k], P0x[k]), dy = hn::Sub(P1y[k], P0y[k]);
+      // The top-left bias: -1 unless dy > 0, or dy == 0 and dx < 0.
       const auto top_left = hn::Or(hn::And(hn::Eq(dy, zero), hn::Lt(dx, zero)), hn::Gt(dy, zero));
       const auto w = hn::Sub(hn::Sub(hn::Mul(dx, hn::Sub(py0, P0y[k])), hn::Mul(dy, hn::Sub(px0, P0x[k]))),
                              hn::IfThenZeroElse(top_left, one));
-      hn::Store(hn::DemoteTo(di, w), di, o[4 + k]);
-      hn::Store(hn::DemoteTo(di, hn::Mul(hn::Neg(dy), sub)), di, o[7 + k]);
-      hn::Store(hn::DemoteTo(di, hn::Mul(dx, sub)), di, o[10 + k]);
+      const auto step_x = hn::ShiftLeft<kSubpixelBits>(hn::Neg(dy)), step_y = hn::ShiftLeft<kSubpixelBits>(dx);
+      hn::Store(w, di, o[4 + k]);
+      hn::Store(step_x, di, o[7 + k]);
+      hn::Store(step_y, di, o[10 + k]);
       const auto wk = hn::Mul(iz[k], inv_area);
-      A = hn::Add(A, hn::Mul(hn::Mul(hn::Neg(dy), sub), wk));
-      B = hn::Add(B, hn::Mul(hn::Mul(dx, sub), wk));
-      C = hn::Add(C, hn::Mul(hn::Sub(hn::Mul(dx, hn::Neg(P0y[k])), hn::Mul(dy, hn::Neg(P0x[k]))), wk));
+      A = hn::Add(A, hn::Mul(hn::ConvertTo(df, step_x), wk));
+      B = hn::Add(B, hn::Mul(hn::ConvertTo(df, step_y), wk));
+      const auto e_origin = hn::Sub(hn::Mul(dy, P0x[k]), hn::Mul(dx, P0y[k]));
+      C = hn::Add(C, hn::Mul(hn::ConvertTo(df, e_origin), wk));
     }
-    hn::Store(hn::BitCast(di, hn::DemoteTo(df, A)), di, o[13]);
-    hn::Store(hn::BitCast(di, hn::DemoteTo(df, B)), di, o[14]);
-    hn::Store(hn::BitCast(di, hn::DemoteTo(df, C)), di, o[15]);
-    hn::Store(hn::DemoteTo(di, x_lo), di, o[0]), hn::Store(hn::DemoteTo(di, x_hi), di, o[1]);
-    hn::Store(hn::DemoteTo(di, y_lo), di, o[2]), hn::Store(hn::DemoteTo(di, y_hi), di, o[3]);
-    hn::Store(hn::DemoteTo(di, hn::IfThenElseZero(hn::And(ok, fits), one)), di, o_ready);
+    hn::Store(hn::BitCast(di, A), di, o[13]);
+    hn::Store(hn::BitCast(di, B), di, o[14]);
+    hn::Store(hn::BitCast(di, C), di, o[15]);
+    hn::Store(x_lo, di, o[0]), hn::Store(x_hi, di, o[1]);
+    hn::Store(y_lo, di, o[2]), hn::Store(y_hi, di, o[3]);
+    hn::Store(hn::IfThenElseZero(hn::And(ok, fits), one), di, o_ready);
     if (first + lanes <= count && StoreTransposed(di, o, out + first)) {
       for (size_t j = 0; j < lanes; ++j) ready[first + j] = o_ready[j] != 0;
       continue;
