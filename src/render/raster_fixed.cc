@@ -117,6 +117,14 @@ TriangleSetup SetupSnappedTriangle(const int32_t X[3], const int32_t Y[3], const
   const int e0[3] = {ic, ia, ib};  // edge start: c->b (opp. a), a->c (opp. b), b->a (opp. c)
   const int e1[3] = {ib, ic, ia};
   const int64_t px0 = int64_t{x_lo} * kOne, py0 = int64_t{y_lo} * kOne;
+  // 1/z as a plane over pixel coordinates: inv_z = A x + B y + C (box-relative pixels), in
+  // float, each operation in this order (the batched setup repeats it lane by lane). The
+  // integer terms are exact before their one conversion to float. The barycentric weight of
+  // vertex k is E_k(p) / (-area); E_k is linear in p with gradient (step_x, step_y) per pixel,
+  // and E_k(0, 0) = dy_k X_0 - dx_k Y_0.
+  const float inv_area = 1.0f / static_cast<float>(-area);
+  const float iz[3] = {1.0f / z[ia], 1.0f / z[ib], 1.0f / z[ic]};
+  float A = 0, B = 0, C = 0;
   for (int k = 0; k < 3; ++k) {
     const int64_t dx = X[e1[k]] - X[e0[k]], dy = Y[e1[k]] - Y[e0[k]];
     // Top-left rule (same predicate as the reference): pixels exactly on a non-owning
@@ -125,21 +133,9 @@ TriangleSetup SetupSnappedTriangle(const int32_t X[3], const int32_t Y[3], const
     ft.w_row[k] = dx * (py0 - Y[e0[k]]) - dy * (px0 - X[e0[k]]) - (top_left ? 0 : 1);
     ft.step_x[k] = -dy * kOne;
     ft.step_y[k] = dx * kOne;
-  }
-
-  // 1/z as a plane over pixel coordinates: inv_z = A x + B y + C (box-relative pixels), in
-  // float, each operation in this order (the batched setup repeats it lane by lane). The
-  // integer terms are exact before their one conversion to float.
-  const float inv_area = 1.0f / static_cast<float>(-area);
-  const float iz[3] = {1.0f / z[ia], 1.0f / z[ib], 1.0f / z[ic]};
-  // Barycentric weight of vertex k = E_k(p) / (-area); E_k is linear in p with gradient
-  // (-dy_k, dx_k) per fixed-point unit, and E_k(0, 0) = dy_k X_0 - dx_k Y_0.
-  float A = 0, B = 0, C = 0;
-  for (int k = 0; k < 3; ++k) {
-    const int64_t dx = X[e1[k]] - X[e0[k]], dy = Y[e1[k]] - Y[e0[k]];
     const float wk = iz[k] * inv_area;
-    A += static_cast<float>(-dy * kOne) * wk;
-    B += static_cast<float>(dx * kOne) * wk;
+    A += static_cast<float>(ft.step_x[k]) * wk;
+    B += static_cast<float>(ft.step_y[k]) * wk;
     C += static_cast<float>(dy * X[e0[k]] - dx * Y[e0[k]]) * wk;
   }
   ft.A = A, ft.B = B, ft.C = C;
