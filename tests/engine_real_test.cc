@@ -155,7 +155,8 @@ TEST(RasterCoresRealData, CountsEqualAWholeBoxRenderForEveryBackendAndLod) {
   engine::InitializeSamples(K, *mesh, std::span(&d, 1), boxes, opt, 7, &particles);
   const render::LodChain chain = render::LodChain::Build(*mesh);
 
-  for (RasterBackend backend : {RasterBackend::kScalar, RasterBackend::kFixedPoint, RasterBackend::kSimd}) {
+  for (RasterBackend backend :
+       {RasterBackend::kScalar, RasterBackend::kFixedPoint, RasterBackend::kSimd, RasterBackend::kFloatSimd}) {
     for (int level : {0, chain.num_levels() - 1}) {
       const LevelJob level_job(*mesh, chain.level(level), K, boxes, /*clusters=*/false);
       const engine::ScoreJob& job = level_job.job;
@@ -175,7 +176,7 @@ TEST(RasterCoresRealData, CountsEqualAWholeBoxRenderForEveryBackendAndLod) {
         render::ProjectVertices(m.vertices_m, particles.R_cam_obj[i].cast<float>(),
                                 particles.t_cam_obj_m[i].cast<float>(), p, sv);
         std::vector<float> z(static_cast<size_t>(p.box.area()), INFINITY);
-        if (backend == RasterBackend::kScalar) {
+        if (backend == RasterBackend::kScalar || backend == RasterBackend::kFloatSimd) {
           render::RasterizeDepthReference(sv, m.triangles, p, z.data(), nullptr);
         } else {
           render::RasterizeDepthFixedPoint(sv, m.triangles, p, z.data(), nullptr);

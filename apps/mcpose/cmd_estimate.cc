@@ -87,7 +87,7 @@ Status RunEstimate(EstimateArgs& a) {
     return InvalidArgument("--inlier must be 1d or 3d, got '" + a.inlier + "'");
   }
   if (!ParseRasterBackend(a.engine, &o.backend))
-    return InvalidArgument("--engine must be scalar, fixed or simd, got '" + a.engine + "'");
+    return InvalidArgument(std::string("--engine must be ") + kRasterBackendChoices + ", got '" + a.engine + "'");
   if (!a.weights.empty()) {
     if (a.weights.size() != 3) return InvalidArgument("--weights takes three numbers a b c");
     o.weight_a = a.weights[0], o.weight_b = a.weights[1], o.weight_c = a.weights[2];
@@ -185,7 +185,7 @@ void AddEstimateCommand(CLI::App& app, Status* status) {
   cmd->add_option("--anneal", o.anneal, "Diffusion: sigma factor per iteration, (0, 1]")->capture_default_str();
   cmd->add_option("--init-sigma-t", o.init_sigma_t_m, "Initial translation jitter, metres")->capture_default_str();
   cmd->add_option("--init-depth-quantile", o.init_depth_quantile, "Quantile of the box's valid depths for the initial distance")->capture_default_str();
-  cmd->add_option("--engine", args->engine, "Raster core: scalar (float reference), fixed (1/16-pixel fixed point) or simd (fixed point, Highway rows)")->capture_default_str();
+  cmd->add_option("--engine", args->engine, "Raster core: scalar (float reference), fixed (1/16-pixel fixed point), simd (fixed point, Highway rows) or float-simd (the float reference a vector at a time, same results)")->capture_default_str();
   cmd->add_option("--pixel-stride", o.pixel_stride, "Score every s-th pixel in x and y of each box; 1 with --max-grid-pixels 0 = every pixel")->capture_default_str();
   cmd->add_option("--max-grid-pixels", o.max_grid_pixels, "Sample a box with more grid pixels than this at a coarser stride; 0 = no budget")->capture_default_str();
   cmd->add_option("--lod-px", o.lod_error_px, "Level of detail: coarsest simplified mesh within this error in pixels at the box depth; 0 = full mesh")->capture_default_str();

@@ -21,9 +21,13 @@ enum class RasterBackend {
                 // inlier counts within 0.5% of kScalar (render/raster_fixed.h)
   kSimd,        // kFixedPoint with its pixel rows walked N at a time by Highway (AVX-512,
                 // AVX2, SSE4 or scalar, chosen at run time); bit-identical to kFixedPoint
+  kFloatSimd,   // kScalar reorganised for Highway: triangles classified and pixels tested a
+                // vector at a time with the same float operations; bit-identical to kScalar
 };
 
-// "scalar" / "fixed" / "simd"; returns false for an unknown name.
+// The names ParseRasterBackend accepts, for messages: "scalar, fixed, simd or float-simd".
+inline constexpr const char* kRasterBackendChoices = "scalar, fixed, simd or float-simd";
+// "scalar" / "fixed" / "simd" / "float-simd"; returns false for an unknown name.
 bool ParseRasterBackend(const std::string& name, RasterBackend* backend);
 const char* RasterBackendName(RasterBackend backend);
 

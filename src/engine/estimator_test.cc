@@ -112,6 +112,30 @@ TEST(Estimator, SameResultAtAnyThreadCountAndForTheFixedPointCore) {
   EXPECT_NEAR(a->mean_weight_history[0], b->mean_weight_history[0], 0.005 * b->mean_weight_history[0]);
 }
 
+// The float-simd engine is the scalar reference a vector at a time: the same counts, so the
+// same weights and the same pose, every iteration, with or without back faces.
+TEST(Estimator, FloatSimdEngineGivesTheScalarEnginesPoses) {
+  const SyntheticScene s = MakeScene();
+  std::vector<Detection> boxes = {Detection{1, 1, 7, 0.9, 100, 60, 120, 120}};
+  for (bool cull : {true, false}) {
+    EstimatorOptions scalar;
+    scalar.samples = 128;
+    scalar.max_iterations = 6;
+    scalar.lod_error_px = 0;
+    scalar.backface_culling = cull;
+    scalar.backend = RasterBackend::kScalar;
+    EstimatorOptions float_simd = scalar;
+    float_simd.backend = RasterBackend::kFloatSimd;
+    auto a = (*Estimator::Create(scalar))->Estimate(s.K, s.depth, s.mesh, boxes, 5);
+    auto b = (*Estimator::Create(float_simd))->Estimate(s.K, s.depth, s.mesh, boxes, 5);
+    ASSERT_TRUE(a.ok() && b.ok());
+    EXPECT_EQ(b->T_cam_obj.R, a->T_cam_obj.R) << "cull " << cull;
+    EXPECT_EQ(b->T_cam_obj.t, a->T_cam_obj.t) << "cull " << cull;
+    EXPECT_EQ(b->mean_weight_history, a->mean_weight_history) << "cull " << cull;
+    EXPECT_FALSE(a->mean_weight_history.empty());
+  }
+}
+
 TEST(Estimator, RejectsBadBoxesAndMismatchedInputs) {
   const SyntheticScene s = MakeScene();
   auto est = std::move(Estimator::Create(EstimatorOptions{})).value();

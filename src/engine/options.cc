@@ -56,6 +56,8 @@ bool ParseRasterBackend(const std::string& name, RasterBackend* backend) {
     *backend = RasterBackend::kFixedPoint;
   } else if (name == "simd") {
     *backend = RasterBackend::kSimd;
+  } else if (name == "float-simd") {
+    *backend = RasterBackend::kFloatSimd;
   } else {
     return false;
   }
@@ -67,6 +69,7 @@ const char* RasterBackendName(RasterBackend backend) {
     case RasterBackend::kScalar: return "scalar";
     case RasterBackend::kFixedPoint: return "fixed";
     case RasterBackend::kSimd: return "simd";
+    case RasterBackend::kFloatSimd: return "float-simd";
   }
   return "unknown";
 }

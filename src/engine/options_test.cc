@@ -52,7 +52,8 @@ TEST(EstimatorOptions, EachInvalidFieldIsNamed) {
 }
 
 TEST(EstimatorOptions, BackendNamesRoundTrip) {
-  for (RasterBackend b : {RasterBackend::kScalar, RasterBackend::kFixedPoint, RasterBackend::kSimd}) {
+  for (RasterBackend b :
+       {RasterBackend::kScalar, RasterBackend::kFixedPoint, RasterBackend::kSimd, RasterBackend::kFloatSimd}) {
     RasterBackend parsed;
     ASSERT_TRUE(ParseRasterBackend(RasterBackendName(b), &parsed));
     EXPECT_EQ(parsed, b);

@@ -96,10 +96,11 @@ void RasterCores::Score(const ScoreJob& job, const filter::ParticleSet& particle
     s.vertices.resize(max_vertices);
     s.stats = render::RasterStats{};
   }
-  // The simd engine: the vertex stage, rows and inlier count of the Highway kernels. The
-  // batched setup's snapped vertices (fixed, simd) come with the projection.
-  const bool simd = backend_ == RasterBackend::kSimd;
-  const bool snap = job.batched_setup && backend_ != RasterBackend::kScalar;
+  // The simd and float-simd engines: the vertex stage, rows and inlier count of the Highway
+  // kernels. The batched setup's snapped vertices (fixed, simd) come with the projection.
+  const bool simd = backend_ == RasterBackend::kSimd || backend_ == RasterBackend::kFloatSimd;
+  const bool fixed_point = backend_ == RasterBackend::kFixedPoint || backend_ == RasterBackend::kSimd;
+  const bool snap = job.batched_setup && fixed_point;
   pool_.ParallelFor(static_cast<int64_t>(particles.size()), [&](int64_t begin, int64_t end, int worker) {
     Scratch& s = scratch_[worker];
     for (int64_t i = begin; i < end; ++i) {
@@ -146,6 +147,9 @@ void RasterCores::Score(const ScoreJob& job, const filter::ParticleSet& particle
       switch (backend_) {
         case RasterBackend::kScalar:
           render::RasterizeDepthReference(vertices, mesh.triangles, params, s.zbuf.data(), &s.stats);
+          break;
+        case RasterBackend::kFloatSimd:
+          render::RasterizeDepthFloatSimd(vertices, mesh.triangles, params, s.zbuf.data(), &s.stats);
           break;
         case RasterBackend::kFixedPoint:
         case RasterBackend::kSimd: {

@@ -58,10 +58,10 @@ int64_t UnionSamples(std::span<const BoxDepth* const> boxes);
 struct ScoreJob {
   const Mesh* mesh = nullptr;            // the full mesh
   std::span<const Mesh* const> box_mesh; // optional: the mesh (LOD level) each box renders
-  // Optional, with box_mesh: the culling clusters of each box's mesh. The fixed-point and
-  // SIMD cores then drop whole clusters outside the box or facing away (the same inlier counts
-  // in the tests; render/clusters.h says where the cone test is not exact); the scalar
-  // reference always walks every triangle.
+  // Optional, with box_mesh: the culling clusters of each box's mesh. The fixed-point cores
+  // (fixed, simd) then drop whole clusters outside the box or facing away (the same inlier
+  // counts in the tests; render/clusters.h says where the cone test is not exact); the float
+  // cores (scalar, float-simd) always walk every triangle.
   std::span<const render::ClusterSet* const> box_clusters;
   Intrinsics K;                          // the camera (each box renders through its K_grid)
   std::span<const BoxDepth> boxes;

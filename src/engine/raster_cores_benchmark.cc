@@ -83,7 +83,8 @@ constexpr std::pair<FrameKey, int> kObjects[] = {
 void BM_ScoreIteration(benchmark::State& state) {
   const auto& [key, obj_id] = kObjects[state.range(0)];
   const Workload& w = GetWorkload(key, obj_id, static_cast<int>(state.range(4)), static_cast<int>(state.range(5)));
-  const RasterBackend backends[] = {RasterBackend::kScalar, RasterBackend::kFixedPoint, RasterBackend::kSimd};
+  const RasterBackend backends[] = {RasterBackend::kScalar, RasterBackend::kFixedPoint, RasterBackend::kSimd,
+                                    RasterBackend::kFloatSimd};
   const auto backend = backends[state.range(1)];
   engine::RasterCores cores(static_cast<int>(state.range(3)), backend);
   const Mesh* box_mesh[1] = {state.range(2) ? &w.lod_level->mesh : &w.mesh};

@@ -87,4 +87,17 @@ void RasterizeDepthReference(std::span<const ScreenVertex> vertices,
                              std::span<const std::array<uint32_t, 3>> triangles,
                              const RasterParams& params, float* zbuf, RasterStats* stats);
 
+// Slack (floats) the SIMD kernels need after the last z-buffer pixel: the widest vector.
+inline constexpr size_t kSimdPadFloats = 64;
+
+// RasterizeDepthReference reorganised for SIMD (render/raster_float_simd.cc, Highway,
+// runtime-dispatched): a vector of triangles classified at a time, then a vector of pixels of
+// a row at a time, with the reference's float operations in the reference's order. The
+// z-buffer and the statistics are bit-identical to the reference's (tested on every target).
+// zbuf needs kSimdPadFloats of slack after the box (pixels past a row's end are stored back
+// unchanged).
+void RasterizeDepthFloatSimd(std::span<const ScreenVertex> vertices,
+                             std::span<const std::array<uint32_t, 3>> triangles,
+                             const RasterParams& params, float* zbuf, RasterStats* stats);
+
 }  // namespace mcpose::render

@@ -28,8 +28,6 @@ inline constexpr int32_t kMaxSpanPx = 2048;     // triangles wider or taller tha
 // Triangles whose bounding box spans at most this many pixels per side have edge functions
 // that fit in 32 bits (|E| < 2^30), so the SIMD row kernel can take them.
 inline constexpr int32_t kMaxSimdSpanPx = 1024;
-// Slack (floats) the SIMD kernel needs after the last z-buffer pixel: the widest vector.
-inline constexpr size_t kSimdPadFloats = 64;
 
 // One triangle after fixed-point setup, in box-relative pixels: the pixel range to walk,
 // the edge functions (positive inside, top-left bias applied) at (x_lo, y_lo) and their steps

@@ -16,6 +16,8 @@
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 #include <hwy/highway.h>
 
+#include "render/blocks-inl.h"
+
 HWY_BEFORE_NAMESPACE();
 namespace mcpose::render {
 namespace HWY_NAMESPACE {
@@ -124,33 +126,6 @@ HWY_INLINE LaneCounts<DF> FillRows(DF df, const CompactTriangle& HWY_RESTRICT t,
 }
 
 #if HWY_TARGET != HWY_SCALAR  // one lane: no blocks
-// A block of kW pixels x (lanes / kW) rows in one vector, row r of the block at rows[r] (the
-// first row in the lowest lanes). Loads and stores split the vector into halves until a half
-// is one row wide.
-template <size_t kW, class D>
-HWY_INLINE hn::Vec<D> LoadBlock(D d, float* const* rows) {
-  if constexpr (hn::MaxLanes(D()) == kW) {
-    return hn::LoadU(d, rows[0]);
-  } else {
-    const hn::Half<D> dh;
-    constexpr size_t kHalfRows = hn::MaxLanes(D()) / 2 / kW;
-    return hn::Combine(d, LoadBlock<kW>(dh, rows + kHalfRows), LoadBlock<kW>(dh, rows));
-  }
-}
-// Stores the rows last to first: rows past the triangle's last one alias it (see FillBlocks),
-// hold its old values, and must be overwritten by it.
-template <size_t kW, class D>
-HWY_INLINE void StoreBlock(D d, hn::Vec<D> v, float* const* rows) {
-  if constexpr (hn::MaxLanes(D()) == kW) {
-    hn::StoreU(v, d, rows[0]);
-  } else {
-    const hn::Half<D> dh;
-    constexpr size_t kHalfRows = hn::MaxLanes(D()) / 2 / kW;
-    StoreBlock<kW>(dh, hn::UpperHalf(dh, v), rows + kHalfRows);
-    StoreBlock<kW>(dh, hn::LowerHalf(dh, v), rows);
-  }
-}
-
 // Triangles at most kW pixels wide, lanes / kW rows per vector: lane i is pixel
 // (x_lo + i % kW, y + i / kW). Same integer coverage and float operations per pixel as the
 // scalar kernel. Rows past y_hi are masked out; their pointers alias row y_hi, so nothing
