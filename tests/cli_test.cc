@@ -207,41 +207,61 @@ TEST_P(CliThreads, SameSeedSameCsvAtAnyThreadCount) {
 }
 
 std::string EngineTestName(const ::testing::TestParamInfo<std::string>& info) {
-  static const char* const kNames[] = {"scalar", "fixed", "simd_lod"};
+  static const char* const kNames[] = {"scalar", "fixed", "simd_lod", "float_simd"};
   return kNames[info.index];
 }
 
 INSTANTIATE_TEST_SUITE_P(Engines, CliThreads,
-                         ::testing::Values("--engine scalar", "--engine fixed", "--engine simd --lod-px 1"),
+                         ::testing::Values("--engine scalar", "--engine fixed", "--engine simd --lod-px 1",
+                                           "--engine float-simd"),
                          EngineTestName);
 
 // Boxes a detector gives for far, thin or mostly hidden objects: strips 2 to 7 pixels wide,
-// a 3-pixel-tall band, a 2 x 2 box and one half outside the image. The simd engine gives the
-// fixed-point engine's rows (grids narrower than a block of rows once lost depth writes).
-TEST(Cli, ThinAndTinyBoxesGiveTheFixedPointEnginesCsv) {
-  const fs::path dir = testing::TempDir("thin_boxes");
-  WriteText(dir / "dets.json", R"([
+// a 3-pixel-tall band, a 2 x 2 box and one half outside the image.
+const char* const kThinBoxes = R"([
     {"scene_id": 49, "image_id": 1, "category_id": 3, "score": 0.9, "bbox": [330, 132, 5, 150]},
     {"scene_id": 49, "image_id": 1, "category_id": 3, "score": 0.5, "bbox": [300, 200, 2, 2]},
     {"scene_id": 49, "image_id": 1, "category_id": 6, "score": 0.8, "bbox": [434, 130, 97, 3]},
     {"scene_id": 49, "image_id": 1, "category_id": 9, "score": 0.7, "bbox": [230, 98, 7, 131]},
     {"scene_id": 49, "image_id": 1, "category_id": 9, "score": 0.6, "bbox": [-45, 300, 90, 131]},
     {"scene_id": 49, "image_id": 1, "category_id": 5, "score": 0.6, "bbox": [500, 20, 3, 90]}
-  ])");
+  ])";
+
+// The CSV rows of `mcpose estimate` on kThinBoxes with each of two engine settings, at pixel
+// strides 2 and 1: each pair must be equal.
+void ExpectThinBoxRowsEqual(const std::string& name, const std::string& engine_a, const std::string& engine_b,
+                            const std::string& extra) {
+  const fs::path dir = testing::TempDir(name);
+  WriteText(dir / "dets.json", kThinBoxes);
   for (const std::string stride : {"2", "1"}) {
     std::vector<std::vector<std::string>> runs;
-    for (const std::string engine : {"fixed --threads 1", "simd --threads 2"}) {
+    for (const std::string& engine : {engine_a, engine_b}) {
       const fs::path out = dir / "r.csv";
       const CliResult r = RunCli("estimate --dataset " + testing::YcbvDir() + " --detections " +
                                      (dir / "dets.json").string() + " --out " + out.string() +
-                                     " --iterations 6 --seed 3 -q --pixel-stride " + stride + " --engine " + engine,
+                                     " --iterations 6 --seed 3 -q --pixel-stride " + stride + " --engine " + engine +
+                                     extra,
                                  dir);
       ASSERT_EQ(r.exit_code, 0) << r.err;
       runs.push_back(RowsWithoutTime(out));
     }
     ASSERT_EQ(runs[0].size(), 5u);  // header + one row per class
-    EXPECT_EQ(runs[1], runs[0]) << "pixel stride " << stride;
+    EXPECT_EQ(runs[1], runs[0]) << engine_a << " vs " << engine_b << ", pixel stride " << stride;
   }
+}
+
+// The simd engine gives the fixed-point engine's rows (grids narrower than a block of rows once
+// lost depth writes).
+TEST(Cli, ThinAndTinyBoxesGiveTheFixedPointEnginesCsv) {
+  ExpectThinBoxRowsEqual("thin_boxes", "fixed --threads 1", "simd --threads 2", "");
+}
+
+// The float-simd engine gives the scalar reference's rows, full mesh and LOD (its row blocks
+// are used only where a box is at least a block wide).
+TEST(Cli, ThinAndTinyBoxesGiveTheScalarEnginesCsvOnFloatSimd) {
+  ExpectThinBoxRowsEqual("thin_boxes_float", "scalar --threads 1", "float-simd --threads 2",
+                         " --samples 200 --lod-px 0");
+  ExpectThinBoxRowsEqual("thin_boxes_float_lod", "scalar --threads 1", "float-simd --threads 2", " --lod-px 1");
 }
 
 // --simd-target: the default (best) target and the last, least capable one give the same rows;

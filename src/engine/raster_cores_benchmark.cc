@@ -78,7 +78,7 @@ const Workload& GetWorkload(FrameKey key, int obj_id, int samples, int stride = 
 constexpr std::pair<FrameKey, int> kObjects[] = {
     {{1, 1}, 2}, {{3, 138}, 4}, {{1, 1}, 5}, {{2, 1}, 9}, {{2, 1}, 10}};
 
-// Args: object index, engine (0 scalar, 1 fixed, 2 simd), LOD (0 full mesh, 1 one pixel,
+// Args: object index, engine (0 scalar, 1 fixed, 2 simd, 3 float-simd), LOD (0 full mesh, 1 one pixel,
 // 2 one pixel with cluster culling, as the estimator runs), threads, samples, pixel stride.
 void BM_ScoreIteration(benchmark::State& state) {
   const auto& [key, obj_id] = kObjects[state.range(0)];
@@ -111,7 +111,7 @@ void BM_ScoreIteration(benchmark::State& state) {
 // Engines x LOD at the paper's 620 samples, 1 and 2 threads, every pixel.
 BENCHMARK(BM_ScoreIteration)
     ->ArgNames({"object", "engine", "lod", "threads", "samples", "stride"})
-    ->ArgsProduct({{0, 1, 2, 3, 4}, {0, 1, 2}, {0, 1}, {1, 2}, {620}, {1}})
+    ->ArgsProduct({{0, 1, 2, 3, 4}, {0, 1, 2, 3}, {0, 1}, {1, 2}, {620}, {1}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->MinTime(0.5);
