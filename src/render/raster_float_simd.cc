@@ -186,7 +186,7 @@ void RasterizeFloatImpl(const float* uvz, const uint32_t* tri, size_t n, const R
   const auto ix_last = hn::Set(di, box.x1 - 1), iy_last = hn::Set(di, box.y1 - 1);
 
   HWY_ALIGN float lane_f[10][kMaxLanes];
-  HWY_ALIGN int32_t lane_i[8][kMaxLanes];
+  HWY_ALIGN int32_t lane_i[7][kMaxLanes];
   RasterStats s;
   for (size_t first = 0; first < n; first += lanes) {
     VI i0, i1, i2;
@@ -249,21 +249,28 @@ void RasterizeFloatImpl(const float* uvz, const uint32_t* tri, size_t n, const R
     hn::Store(tl(hn::Sub(bu, cu), hn::Sub(bv, cv)), di, lane_i[4]);  // IsTopLeft(c, b)
     hn::Store(tl(hn::Sub(cu, au), hn::Sub(cv, av)), di, lane_i[5]);  // IsTopLeft(a, c)
     hn::Store(tl(hn::Sub(au, bu), hn::Sub(av, bv)), di, lane_i[6]);  // IsTopLeft(b, a)
-    hn::Store(hn::VecFromMask(di, hn::RebindMask(di, live)), di, lane_i[7]);
-    for (size_t k = 0; k < lanes; ++k) {
-      if (!lane_i[7][k]) continue;
+    // The live lanes in order, by their mask bits: no branch per lane (front and back faces
+    // alternate too irregularly to predict). Covered pixels are counted per lane and summed
+    // once a vector; a triangle that covers nothing is found by comparing its lanes with zero.
+    uint8_t bytes[8] = {0};
+    hn::StoreMaskBits(df, live, bytes);
+    uint64_t bits = 0;
+    for (size_t i = 0; i < (lanes + 7) / 8; ++i) bits |= uint64_t{bytes[i]} << (8 * i);
+    auto covered_lanes = hn::Zero(di);
+    int64_t filled = 0, between = 0;
+    for (; bits != 0; bits &= bits - 1, ++filled) {
+      const size_t k = static_cast<size_t>(hwy::Num0BitsBelowLS1Bit_Nonzero64(bits));
       const FloatTriangle t{lane_f[0][k], lane_f[1][k], lane_f[2][k], lane_f[3][k], lane_f[4][k],
                             lane_f[5][k], lane_f[6][k], lane_f[7][k], lane_f[8][k], lane_f[9][k],
                             lane_i[4][k] != 0, lane_i[5][k] != 0, lane_i[6][k] != 0,
                             lane_i[0][k], lane_i[1][k], lane_i[2][k], lane_i[3][k]};
       const auto covered = FillFloatTriangle(t, box, zbuf);
-      if (hn::AllTrue(di, hn::Eq(covered, hn::Zero(di)))) {
-        ++s.culled_between_pixels;
-      } else {
-        ++s.rasterized;
-        s.fragments += hn::GetLane(hn::SumOfLanes(di, covered));
-      }
+      between += hn::AllTrue(di, hn::Eq(covered, hn::Zero(di)));
+      covered_lanes = hn::Add(covered_lanes, covered);
     }
+    s.culled_between_pixels += between;
+    s.rasterized += filled - between;
+    s.fragments += hn::GetLane(hn::SumOfLanes(di, covered_lanes));
   }
   *stats += s;
 }
