@@ -29,6 +29,7 @@ awk -F'\t' -v a="$1" -v b="$2" '
     t90 = tq(1.6449, nu); t95 = tq(1.9600, nu)
     printf "%s - %s: %+.2f points, SE %.2f, %.0f degrees of freedom; 90 %% interval [%+.2f, %+.2f]; 95 %% interval [%+.2f, %+.2f]\n",
            a, b, d, s, nu, d - t90 * s, d + t90 * s, d - t95 * s, d + t95 * s
+    if (nu < 5) printf "(fewer than 5 degrees of freedom: the t quantiles above are too small; add seeds)\n"
     within = (d - t90 * s > -1 && d + t90 * s < 1)
     printf "within 1 point (90 %% interval inside (-1, +1)): %s\n", within ? "yes" : "not shown"
   }' "$SUMMARY"
