@@ -90,7 +90,7 @@ HWY_INLINE LaneCounts<DF> FillFloatRows(DF df, const FloatTriangle& t, const Pix
     const auto ra = hn::Set(df, (t.bu - t.cu) * (py - t.cv));
     const auto rb = hn::Set(df, (t.cu - t.au) * (py - t.av));
     const auto rc = hn::Set(df, (t.au - t.bu) * (py - t.bv));
-    float* row = zbuf + static_cast<ptrdiff_t>(y - box.y0) * box.width() - box.x0;
+    float* row = zbuf + static_cast<ptrdiff_t>(y - box.y0) * box.width();
     for (int32_t x = t.x_lo; x <= t.x_hi; x += lanes) {
       const auto px = hn::ConvertTo(df, hn::Add(hn::Set(di, x), iota));
       const auto in_row = hn::RebindMask(df, hn::FirstN(di, static_cast<size_t>(t.x_hi - x + 1)));
@@ -98,8 +98,8 @@ HWY_INLINE LaneCounts<DF> FillFloatRows(DF df, const FloatTriangle& t, const Pix
       const auto inside = f.Shade(ra, rb, rc, px, in_row, &z);
       covered = hn::Sub(covered, hn::VecFromMask(di, hn::RebindMask(di, inside)));
       // Lanes past the row's end: the slack or the next row, loaded but not stored.
-      const auto old = hn::LoadU(df, row + x);
-      hn::BlendedStore(z, hn::And(inside, hn::Lt(z, old)), df, row + x);
+      const auto old = hn::LoadU(df, row + (x - box.x0));
+      hn::BlendedStore(z, hn::And(inside, hn::Lt(z, old)), df, row + (x - box.x0));
     }
   }
   return covered;
