@@ -292,14 +292,11 @@ void RasterizeDepthFloatSimd(std::span<const ScreenVertex> vertices,
                              float* zbuf, RasterStats* stats) {
   static_assert(sizeof(ScreenVertex) == 3 * sizeof(float) && sizeof(std::array<uint32_t, 3>) == 3 * sizeof(uint32_t));
   RasterStats s;
-  // Whole vectors of triangles here, the few left over by the reference itself.
+  // Whole vectors of triangles here, the few left over (and every triangle of an empty box)
+  // by the reference itself.
   const size_t lanes = HWY_DYNAMIC_DISPATCH(LaneCount)();
-  const size_t n = triangles.size() / lanes * lanes;
-  if (n > 0 && !params.box.empty()) {
-    HWY_DYNAMIC_DISPATCH(RasterizeFloatImpl)(&vertices[0].u, triangles[0].data(), n, params, zbuf, &s);
-  } else {
-    RasterizeDepthReference(vertices, triangles.first(n), params, zbuf, &s);
-  }
+  const size_t n = params.box.empty() ? 0 : triangles.size() / lanes * lanes;
+  if (n > 0) HWY_DYNAMIC_DISPATCH(RasterizeFloatImpl)(&vertices[0].u, triangles[0].data(), n, params, zbuf, &s);
   RasterizeDepthReference(vertices, triangles.subspan(n), params, zbuf, &s);
   if (stats) *stats += s;
 }
