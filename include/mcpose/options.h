@@ -88,8 +88,8 @@ struct EstimatorOptions {
   // instances both give the same accuracy within the seed-to-seed spread (README, accuracy).
   RasterBackend backend = RasterBackend::kSimd;
   // Level of detail: each box renders the coarsest meshoptimizer simplification whose
-  // geometric error, projected at the box's initial depth, is at most lod_error_px pixels
-  // (render/lod.h). 0 = always the full mesh.
+  // measured deviation from the full mesh, projected at the box's initial depth, is at most
+  // lod_error_px raster pixels (render/lod.h). 0 = always the full mesh.
   double lod_error_px = 1.0;
   // Cluster culling (fixed and simd engines, with LOD): drop whole meshoptimizer clusters of up
   // to 16 triangles that lie outside the box or face away (when back faces are culled), before

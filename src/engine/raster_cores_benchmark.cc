@@ -66,7 +66,6 @@ const Workload& GetWorkload(FrameKey key, int obj_id, int samples, int stride = 
       InlierMode::k1D, stride));
   EstimatorOptions options;
   options.samples = samples;
-  options.lod_error_px = 1.0;
   engine::InitializeSamples(w->frame.K, w->mesh, std::span(&w->det, 1), w->boxes, options, 1, &w->particles);
   w->lod = std::make_unique<render::LodChain>(render::LodChain::Build(w->mesh));
   w->lod_level = &w->lod->level(engine::SelectLodLevel(*w->lod, w->frame.K, w->mesh, w->det, w->boxes[0], options));

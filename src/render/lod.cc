@@ -6,6 +6,7 @@
 #include <meshoptimizer.h>
 
 #include "core/check.h"
+#include "render/surface_distance.h"
 
 namespace mcpose::render {
 
@@ -31,7 +32,7 @@ Mesh Compact(const Mesh& full, const std::vector<uint32_t>& indices) {
 
 LodChain LodChain::Build(const Mesh& mesh) {
   LodChain chain;
-  chain.levels_.push_back(LodLevel{mesh, 0.f, ClusterSet::Build(mesh)});
+  chain.levels_.push_back(LodLevel{mesh, 0.f, 0.f, ClusterSet::Build(mesh)});
   if (mesh.triangles.size() <= kMinTriangles) return chain;
 
   std::vector<uint32_t> indices(mesh.triangles.size() * 3);
@@ -44,6 +45,7 @@ LodChain LodChain::Build(const Mesh& mesh) {
   const float scale = meshopt_simplifyScale(positions, mesh.vertices_m.size(), stride);
   if (!(scale > 0)) return chain;
 
+  const DeviationMeter meter(mesh);
   std::vector<uint32_t> out(indices.size());
   // Errors kFirstErrorM * 2^k up to the mesh extent; a level is kept only if it removes
   // triangles, and simplification stops at kMinTriangles.
@@ -56,11 +58,13 @@ LodChain LodChain::Build(const Mesh& mesh) {
     const size_t prev = chain.levels_.back().mesh.triangles.size();
     if (n >= 3 && n / 3 < prev) {
       std::vector<uint32_t> kept(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(n));
-      // The reported error, but never below the previous level's (errors must grow).
-      const float err = std::max(result_error * scale, chain.levels_.back().error_m);
       Mesh level = Compact(mesh, kept);
+      // The measured deviation (or the reported error if larger), never below the previous
+      // level's: errors must grow along the chain for Select.
+      const float reported = result_error * scale;
+      const float err = std::max({meter.Measure(level), reported, chain.levels_.back().error_m});
       ClusterSet clusters = ClusterSet::Build(level);
-      chain.levels_.push_back(LodLevel{std::move(level), err, std::move(clusters)});
+      chain.levels_.push_back(LodLevel{std::move(level), err, reported, std::move(clusters)});
     }
     if (n <= kMinTriangles * 3) break;
   }

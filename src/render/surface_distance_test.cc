@@ -1,0 +1,126 @@
+// Surface distances: the point-triangle distance on cases worked by hand, the grid search
+// against every-triangle references on random meshes, and the measured LOD deviation.
+#include "render/surface_distance.h"
+
+#include <cmath>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "render/lod.h"
+
+namespace mcpose::render {
+namespace {
+
+using Vec3 = Eigen::Vector3f;
+
+TEST(SurfaceDistance, PointTriangleOnHandWorkedCases) {
+  const Vec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
+  EXPECT_FLOAT_EQ(PointTriangleDistanceSquared(Vec3(0.25f, 0.25f, 2), a, b, c), 4.f);  // over the face
+  EXPECT_FLOAT_EQ(PointTriangleDistanceSquared(Vec3(-1, -1, 0), a, b, c), 2.f);       // beyond vertex a
+  EXPECT_FLOAT_EQ(PointTriangleDistanceSquared(Vec3(2, 0, 1), a, b, c), 2.f);         // beyond vertex b
+  EXPECT_FLOAT_EQ(PointTriangleDistanceSquared(Vec3(0.5f, -3, 4), a, b, c), 25.f);    // beyond edge ab
+  EXPECT_FLOAT_EQ(PointTriangleDistanceSquared(Vec3(1, 1, 0), a, b, c), 0.5f);        // beyond edge bc
+  EXPECT_FLOAT_EQ(PointTriangleDistanceSquared(Vec3(-2, 0.5f, 0), a, b, c), 4.f);     // beyond edge ca
+  // Degenerate: a segment from (0,0,0) to (2,0,0) (c in the middle), and a point.
+  EXPECT_FLOAT_EQ(PointTriangleDistanceSquared(Vec3(1, 3, 0), a, Vec3(2, 0, 0), Vec3(1, 0, 0)), 9.f);
+  EXPECT_FLOAT_EQ(PointTriangleDistanceSquared(Vec3(0, 3, 4), a, a, a), 25.f);
+}
+
+// n random triangles in a box of side `size` around the origin, some of them long and thin.
+Mesh RandomSoup(std::mt19937& rng, int n, float size) {
+  std::uniform_real_distribution<float> u(-0.5f * size, 0.5f * size);
+  std::uniform_real_distribution<float> small(-0.05f * size, 0.05f * size);
+  Mesh m;
+  for (int i = 0; i < n; ++i) {
+    const Vec3 p(u(rng), u(rng), u(rng));
+    const bool thin = i % 5 == 0;
+    for (int k = 0; k < 3; ++k)
+      m.vertices_m.push_back(thin && k == 2 ? Vec3(u(rng), u(rng), u(rng)) : p + Vec3(small(rng), small(rng), small(rng)));
+    const uint32_t v = static_cast<uint32_t>(3 * i);
+    m.triangles.push_back({v, v + 1, v + 2});
+  }
+  return m;
+}
+
+TEST(SurfaceDistance, GridSearchEqualsEveryTriangleOnRandomMeshes) {
+  std::mt19937 rng(7);
+  for (int trial = 0; trial < 40; ++trial) {
+    const int n = 1 + trial * 13;
+    const Mesh mesh = RandomSoup(rng, n, 0.2f);
+    std::uniform_real_distribution<float> u(-0.3f, 0.3f);  // some points outside the grid
+    std::vector<Vec3> points;
+    for (int i = 0; i < 200; ++i) points.emplace_back(u(rng), u(rng), u(rng));
+    EXPECT_FLOAT_EQ(MaxDistanceToSurface(points, mesh), MaxDistanceToSurfaceReference(points, mesh))
+        << "trial " << trial << ", " << n << " triangles";
+    const TriangleGrid grid(mesh);
+    for (int i = 0; i < 20; ++i)
+      EXPECT_FLOAT_EQ(grid.Distance(points[static_cast<size_t>(i)]),
+                      MaxDistanceToSurfaceReference(std::span(&points[static_cast<size_t>(i)], 1), mesh));
+  }
+  // A flat mesh (zero extent in z) and an empty one.
+  Mesh flat;
+  flat.vertices_m = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
+  flat.triangles = {{0, 1, 2}};
+  EXPECT_FLOAT_EQ(TriangleGrid(flat).Distance(Vec3(0.2f, 0.2f, -3)), 3.f);
+  EXPECT_TRUE(std::isinf(TriangleGrid(Mesh{}).Distance(Vec3(0, 0, 0))));
+}
+
+// A square of n x n quads in z = 0 whose centre vertex is raised by h, and the same square as
+// two flat triangles: the two surfaces are h apart (at the raised vertex).
+TEST(SurfaceDistance, DeviationOfAFlattenedBumpIsItsHeight) {
+  const int n = 8;
+  const float h = 0.003f;
+  Mesh bumpy, flat;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i)
+      bumpy.vertices_m.emplace_back(0.01f * i, 0.01f * j, i == n / 2 && j == n / 2 ? h : 0.f);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const uint32_t v = static_cast<uint32_t>(j * (n + 1) + i), w = v + n + 1;
+      bumpy.triangles.push_back({v, v + 1, w + 1});
+      bumpy.triangles.push_back({v, w + 1, w});
+    }
+  flat.vertices_m = {Vec3(0, 0, 0), Vec3(0.01f * n, 0, 0), Vec3(0.01f * n, 0.01f * n, 0), Vec3(0, 0.01f * n, 0)};
+  flat.triangles = {{0, 1, 2}, {0, 2, 3}};
+  const DeviationMeter meter(bumpy);
+  EXPECT_FLOAT_EQ(meter.Measure(flat), h);
+  EXPECT_FLOAT_EQ(SampledDeviationReferenceM(bumpy, flat), h);
+  EXPECT_NEAR(meter.Measure(bumpy), 0.f, 1e-7f);  // centroids project back with rounding
+}
+
+// A closed blob with bumps, simplified by the LOD chain: every level's measured deviation
+// equals the every-triangle reference, and error_m is at least it and meshoptimizer's figure.
+TEST(SurfaceDistance, LodLevelsCarryTheirMeasuredDeviation) {
+  Mesh m;
+  const int nu = 48, nv = 24;
+  for (int j = 0; j <= nv; ++j) {
+    const double th = M_PI * j / nv;
+    for (int i = 0; i < nu; ++i) {
+      const double ph = 2 * M_PI * i / nu;
+      const double r = 0.05 * (1 + 0.1 * std::sin(5 * ph) * std::sin(3 * th));
+      m.vertices_m.emplace_back(r * std::sin(th) * std::cos(ph), r * std::sin(th) * std::sin(ph), 1.5 * r * std::cos(th));
+    }
+  }
+  for (int j = 0; j < nv; ++j)
+    for (int i = 0; i < nu; ++i) {
+      const uint32_t a = static_cast<uint32_t>(j * nu + i), b = static_cast<uint32_t>(j * nu + (i + 1) % nu);
+      m.triangles.push_back({a, a + nu, b + nu});
+      m.triangles.push_back({a, b + nu, b});
+    }
+  const LodChain chain = LodChain::Build(m);
+  ASSERT_GE(chain.num_levels(), 3);
+  const DeviationMeter meter(m);
+  for (int l = 1; l < chain.num_levels(); ++l) {
+    const LodLevel& level = chain.level(l);
+    const float measured = meter.Measure(level.mesh);
+    EXPECT_FLOAT_EQ(measured, SampledDeviationReferenceM(m, level.mesh)) << "level " << l;
+    EXPECT_GE(level.error_m, measured);
+    EXPECT_GE(level.error_m, level.meshopt_error_m);
+    EXPECT_GE(level.error_m, chain.level(l - 1).error_m);
+    EXPECT_GT(measured, 0.f);
+  }
+}
+
+}  // namespace
+}  // namespace mcpose::render
