@@ -308,6 +308,31 @@ TEST(RasterCoresRealData, ClusterCullingGivesTheSameCounts) {
   EXPECT_GT(dropped_clusters, 1000);
 }
 
+// The LOD budget is in image pixels at any pixel stride: the mustard bottle (1/1) gets the same
+// level at strides 1, 2 and 3, its deviation is within the budget, and the next coarser level's
+// is not (a coarser scoring grid does not make a coarser mesh safe: README, accuracy).
+TEST(LodRealData, LevelIsChosenInImagePixelsAtAnyStride) {
+  ObjectInFrame o;
+  ASSERT_NO_FATAL_FAILURE(LoadObjectInFrame(FrameKey{1, 1}, 5, &o));
+  const Intrinsics& K = o.frame->K;
+  const render::LodChain chain = render::LodChain::Build(*o.mesh);
+  const Detection& d = o.box;
+  EstimatorOptions opt;
+  int first = -1;
+  for (int stride : {1, 2, 3}) {
+    const engine::BoxDepth box = engine::DistributeDepth(
+        o.frame->depth, K, engine::ClipBox(d.x, d.y, d.w, d.h, K.width, K.height), 1.0, InlierMode::k1D, stride);
+    const int level = engine::SelectLodLevel(chain, K, *o.mesh, d, box, opt);
+    if (first < 0) first = level;
+    EXPECT_EQ(level, first) << "stride " << stride;
+    const double z = engine::InitialDepth(K, *o.mesh, d, box, opt.init_depth_quantile);
+    const double budget_m = opt.lod_error_px * z / std::min(K.fx, K.fy);
+    EXPECT_GT(level, 0);
+    EXPECT_LE(chain.level(level).error_m, budget_m);
+    if (level + 1 < chain.num_levels()) { EXPECT_GT(chain.level(level + 1).error_m, budget_m); }
+  }
+}
+
 // Narrow boxes, as a detector gives for a far or mostly hidden object: strips 1 to 20 pixels
 // wide across the mustard bottle (1/1), at strides 1 and 2, with the engine's LOD level and
 // clusters. The SIMD core counts exactly as the fixed-point one (a grid narrower than a block

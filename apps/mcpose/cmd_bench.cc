@@ -163,7 +163,7 @@ void AddBenchCommand(CLI::App& app, Status* status) {
   cmd->add_option("--repeats", args->options.render_repeats, "Rounds of render + inlier on the initial hypotheses: each times every baseline once and mcpose about as long")->capture_default_str();
   cmd->add_option("--threads", o.threads, "Raster cores (worker threads); 0 = all hardware threads")->capture_default_str();
   cmd->add_option("--engine", args->engine, "Raster core: scalar, fixed, simd or float-simd")->capture_default_str();
-  cmd->add_option("--lod-px", o.lod_error_px, "Level-of-detail budget in pixels; 0 = full mesh")->capture_default_str();
+  cmd->add_option("--lod-px", o.lod_error_px, "Level-of-detail budget: measured deviation in image pixels at the box depth; 0 = full mesh")->capture_default_str();
   cmd->add_option("--pixel-stride", o.pixel_stride, "Score every s-th pixel in x and y of each box")->capture_default_str();
   cmd->add_option("--max-grid-pixels", o.max_grid_pixels, "Coarser stride for boxes with more grid pixels; 0 = none")->capture_default_str();
   cmd->add_flag("--backface-culling,!--no-backface-culling", o.backface_culling,

@@ -188,7 +188,7 @@ void AddEstimateCommand(CLI::App& app, Status* status) {
   cmd->add_option("--engine", args->engine, "Raster core: scalar (float reference), fixed (1/16-pixel fixed point), simd (fixed point, Highway rows) or float-simd (the float reference a vector at a time, same results)")->capture_default_str();
   cmd->add_option("--pixel-stride", o.pixel_stride, "Score every s-th pixel in x and y of each box; 1 with --max-grid-pixels 0 = every pixel")->capture_default_str();
   cmd->add_option("--max-grid-pixels", o.max_grid_pixels, "Sample a box with more grid pixels than this at a coarser stride; 0 = no budget")->capture_default_str();
-  cmd->add_option("--lod-px", o.lod_error_px, "Level of detail: coarsest simplified mesh whose measured deviation from the full mesh is within this many raster pixels at the box depth; 0 = full mesh")->capture_default_str();
+  cmd->add_option("--lod-px", o.lod_error_px, "Level of detail: coarsest simplified mesh whose measured deviation from the full mesh is within this many image pixels at the box depth; 0 = full mesh")->capture_default_str();
   cmd->add_flag("--occlusion-aware,!--no-occlusion-aware", o.occlusion_aware,
                 "Leave rendered pixels hidden behind observed surfaces out of N_r (default on; --no-occlusion-aware: the paper's N_r)");
   cmd->add_flag("--no-backface-culling", args->no_culling, "Rasterize back faces too");

@@ -89,8 +89,9 @@ struct EstimatorOptions {
   RasterBackend backend = RasterBackend::kSimd;
   // Level of detail: each box renders the coarsest meshoptimizer simplification whose
   // measured deviation from the full mesh, projected at the box's initial depth, is at most
-  // lod_error_px raster pixels (render/lod.h). 0 = always the full mesh.
-  double lod_error_px = 1.0;
+  // lod_error_px image pixels, at any pixel stride (render/lod.h, engine/initialize.h).
+  // 0 = always the full mesh.
+  double lod_error_px = 2.0;
   // Cluster culling (fixed and simd engines, with LOD): drop whole meshoptimizer clusters of up
   // to 16 triangles that lie outside the box or face away (when back faces are culled), before
   // triangle setup; the same inlier counts as culling triangle by triangle in the tests

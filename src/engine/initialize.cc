@@ -43,7 +43,7 @@ int SelectLodLevel(const render::LodChain& lod, const Intrinsics& K, const Mesh&
   if (!(options.lod_error_px > 0)) return 0;
   const double z = InitialDepth(K, mesh, d, box, options.init_depth_quantile);
   return lod.Select(render::LodErrorBudgetM(static_cast<float>(options.lod_error_px), static_cast<float>(z),
-                                            static_cast<float>(std::min(box.K_grid.fx, box.K_grid.fy))));
+                                            static_cast<float>(std::min(K.fx, K.fy))));
 }
 
 void InitializeSamples(const Intrinsics& K, const Mesh& mesh, std::span<const Detection> boxes,

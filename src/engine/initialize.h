@@ -23,9 +23,10 @@ namespace mcpose::engine {
 double InitialDepth(const Intrinsics& K, const Mesh& mesh, const Detection& d, const BoxDepth& box,
                     double depth_quantile);
 
-// The LOD level box `d` renders: the coarsest level of `lod` whose error is at most
-// options.lod_error_px raster pixels at the box's initial depth (0 when LOD is off). A raster
-// pixel is box.stride image pixels wide: at pixel stride 2 the budget is 2 image pixels.
+// The LOD level box `d` renders: the coarsest level of `lod` whose measured deviation from the
+// full mesh is at most options.lod_error_px image pixels at the box's initial depth (0 when LOD
+// is off). Image pixels, whatever the box's pixel stride: a coarser scoring grid does not make
+// a coarser mesh safe (the README's accuracy section: LOD and depth twins).
 int SelectLodLevel(const render::LodChain& lod, const Intrinsics& K, const Mesh& mesh, const Detection& d,
                    const BoxDepth& box, const EstimatorOptions& options);
 

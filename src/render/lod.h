@@ -1,7 +1,8 @@
 // Level of detail for the raster cores: a chain of meshoptimizer simplifications of one mesh,
-// each with its measured geometric deviation from the full mesh in metres. The engine picks, per box, the coarsest level
-// whose error, projected at the box's depth, stays under a pixel budget (SelectLevel), so a
-// far or small object is rendered with far fewer triangles than its full mesh.
+// each with its measured geometric deviation from the full mesh in metres. The engine picks, per
+// box, the coarsest level whose deviation, projected at the box's depth, stays under a pixel
+// budget (engine::SelectLodLevel), so a far or small object is rendered with far fewer
+// triangles than its full mesh.
 #pragma once
 
 #include <cstdint>
