@@ -30,6 +30,8 @@ nlohmann::json ObjectJson(const bench::BenchObject& r) {
       {"iterations", r.iterations},
       {"triangles_full", r.triangles_full},
       {"triangles_lod", r.triangles_lod},
+      {"lod_deviation_mm", r.lod_deviation_mm},
+      {"lod_meshopt_error_mm", r.lod_meshopt_error_mm},
       {"triangles_after_cull", r.triangles_after_cull},
       {"fragments_per_iteration", r.fragments_per_iteration},
       {"render_inlier_ms_median", r.render_inlier_ms_median},
@@ -112,9 +114,10 @@ Status RunBenchCommand(BenchArgs& a) {
                 r.fragments_per_iteration, r.render_inlier_ms_median, r.render_inlier_ms_min,
                 r.render_inlier_ms_max, r.full_iteration_ms_median, r.full_iteration_ms_min,
                 r.full_iteration_ms_max, r.hypotheses_per_s, base.c_str());
-    std::printf("  %s scene %d image %d; cdf reads/draw %.2f (naive %.1f); depth bytes %lld (naive %lld); "
-                "initial r+i %.2f ms (%d runs)\n",
-                r.name.c_str(), r.frame.scene_id, r.frame.image_id, r.cdf_reads_per_draw, r.cdf_reads_per_draw_naive,
+    std::printf("  %s scene %d image %d; LOD deviation %.2f mm (meshoptimizer's figure %.2f); "
+                "cdf reads/draw %.2f (naive %.1f); depth bytes %lld (naive %lld); initial r+i %.2f ms (%d runs)\n",
+                r.name.c_str(), r.frame.scene_id, r.frame.image_id, r.lod_deviation_mm, r.lod_meshopt_error_mm,
+                r.cdf_reads_per_draw, r.cdf_reads_per_draw_naive,
                 static_cast<long long>(r.depth_bytes_read), static_cast<long long>(r.depth_bytes_read_naive),
                 r.mcpose_render_inlier_initial_ms, r.mcpose_render_inlier_initial_runs);
     std::fflush(stdout);

@@ -148,6 +148,8 @@ StatusOr<std::vector<BenchObject>> RunBench(const Dataset& ds, const BenchOption
     const render::LodChain lod = render::LodChain::Build(mesh);
     const render::LodLevel& level = lod.level(engine::SelectLodLevel(lod, K, mesh, r.box, boxes[0], eo));
     const Mesh& render_mesh = level.mesh;
+    r.lod_deviation_mm = 1000.0 * level.error_m;
+    r.lod_meshopt_error_mm = 1000.0 * level.meshopt_error_m;
     const Mesh* box_mesh[1] = {&render_mesh};
     const render::ClusterSet* box_clusters[1] = {&level.clusters};
     engine::ScoreJob job;

@@ -46,6 +46,9 @@ struct BenchObject {
   Detection box;
   int samples = 0, threads = 0;
   int triangles_full = 0, triangles_lod = 0;
+  // The chosen LOD level's measured deviation from the full mesh and meshoptimizer's own
+  // figure for it, mm (0 for the full mesh).
+  double lod_deviation_mm = 0, lod_meshopt_error_mm = 0;
   double triangles_after_cull = 0;     // rasterized triangles per sample render (mean)
   double fragments_per_iteration = 0;  // mean over iterations
   double render_inlier_ms_median = 0, render_inlier_ms_min = 0, render_inlier_ms_max = 0;
