@@ -11,31 +11,12 @@
 #include <hwy/targets.h>
 
 #include "render/raster_fixed.h"
+#include "synthetic_mesh.h"
 
 namespace mcpose::render {
 namespace {
 
-// A closed, finely tessellated ellipsoid-ish blob (outward, counter-clockwise), metres.
-Mesh Blob() {
-  Mesh m;
-  const int nu = 48, nv = 24;
-  for (int j = 0; j <= nv; ++j) {
-    const double th = M_PI * j / nv;
-    for (int i = 0; i < nu; ++i) {
-      const double ph = 2 * M_PI * i / nu;
-      const double r = 0.05 * (1 + 0.2 * std::sin(3 * ph) * std::sin(th));
-      m.vertices_m.emplace_back(r * std::sin(th) * std::cos(ph), 0.7 * r * std::sin(th) * std::sin(ph),
-                                1.4 * r * std::cos(th));
-    }
-  }
-  auto id = [&](int i, int j) { return static_cast<uint32_t>(j * nu + (i % nu)); };
-  for (int j = 0; j < nv; ++j)
-    for (int i = 0; i < nu; ++i) {
-      m.triangles.push_back({id(i, j), id(i, j + 1), id(i + 1, j)});
-      m.triangles.push_back({id(i + 1, j), id(i, j + 1), id(i + 1, j + 1)});
-    }
-  return m;
-}
+using testing::Blob;
 
 TEST(Clusters, EveryTriangleInExactlyOneCluster) {
   const Mesh m = Blob();

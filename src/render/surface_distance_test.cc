@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "render/lod.h"
+#include "synthetic_mesh.h"
 
 namespace mcpose::render {
 namespace {
@@ -89,25 +90,10 @@ TEST(SurfaceDistance, DeviationOfAFlattenedBumpIsItsHeight) {
   EXPECT_NEAR(meter.Measure(bumpy), 0.f, 1e-7f);  // centroids project back with rounding
 }
 
-// A closed blob with bumps, simplified by the LOD chain: every level's measured deviation
+// A closed blob with bumps (tests/synthetic_mesh.h), simplified by the LOD chain: every level's measured deviation
 // equals the every-triangle reference, and error_m is at least it and meshoptimizer's figure.
 TEST(SurfaceDistance, LodLevelsCarryTheirMeasuredDeviation) {
-  Mesh m;
-  const int nu = 48, nv = 24;
-  for (int j = 0; j <= nv; ++j) {
-    const double th = M_PI * j / nv;
-    for (int i = 0; i < nu; ++i) {
-      const double ph = 2 * M_PI * i / nu;
-      const double r = 0.05 * (1 + 0.1 * std::sin(5 * ph) * std::sin(3 * th));
-      m.vertices_m.emplace_back(r * std::sin(th) * std::cos(ph), r * std::sin(th) * std::sin(ph), 1.5 * r * std::cos(th));
-    }
-  }
-  for (int j = 0; j < nv; ++j)
-    for (int i = 0; i < nu; ++i) {
-      const uint32_t a = static_cast<uint32_t>(j * nu + i), b = static_cast<uint32_t>(j * nu + (i + 1) % nu);
-      m.triangles.push_back({a, a + nu, b + nu});
-      m.triangles.push_back({a, b + nu, b});
-    }
+  const Mesh m = testing::Blob();
   const LodChain chain = LodChain::Build(m);
   ASSERT_GE(chain.num_levels(), 3);
   const DeviationMeter meter(m);
