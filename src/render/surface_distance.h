@@ -52,7 +52,8 @@ float MaxDistanceToSurfaceReference(std::span<const Eigen::Vector3f> points, con
 // simplifications: the larger of the distance from the full mesh's vertices to the
 // simplified surface, and from the simplified mesh's centroids and edge midpoints to the full
 // one (its vertices lie on the full mesh when it is a meshoptimizer simplification, so they are
-// not sampled). Metres, as the meshes. The full mesh's grid and samples are built once.
+// not sampled). Metres, as the meshes. The full mesh's grid and samples are built once; the
+// full mesh must outlive the meter.
 class DeviationMeter {
  public:
   explicit DeviationMeter(const Mesh& full);
