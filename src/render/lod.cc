@@ -47,10 +47,10 @@ LodChain LodChain::Build(const Mesh& mesh) {
 
   const DeviationMeter meter(mesh);
   std::vector<uint32_t> out(indices.size());
-  // Errors kFirstErrorM * 2^k up to the mesh extent; a level is kept only if it removes
+  // Errors kFirstErrorM * kErrorStep^k up to the mesh extent; a level is kept only if it removes
   // triangles, and simplification stops at kMinTriangles.
   for (float target_m = kFirstErrorM; target_m <= scale && chain.num_levels() < kMaxLevels;
-       target_m *= 2) {
+       target_m *= kErrorStep) {
     float result_error = 0;
     const size_t n = meshopt_simplify(out.data(), indices.data(), indices.size(), positions,
                                       mesh.vertices_m.size(), stride, kMinTriangles * 3,

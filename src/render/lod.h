@@ -26,11 +26,16 @@ struct LodLevel {
 class LodChain {
  public:
   // Level 0 is `mesh` itself (error 0). Coarser levels simplify to meshoptimizer target
-  // errors of kFirstErrorM, 2x, 4x ... (while that still removes triangles and keeps at least
-  // kMinTriangles); each level's error_m is then measured against `mesh`, which on the
-  // YCB-Video meshes is 1.1-3.4x meshoptimizer's own figure. `mesh` must be valid
-  // (Mesh::Validate).
+  // errors of kFirstErrorM times 1, kErrorStep, kErrorStep^2 ... (while that still removes
+  // triangles and keeps at least kMinTriangles); each level's error_m is then measured
+  // against `mesh`, which on the YCB-Video meshes is 1.1-3.4x meshoptimizer's own figure.
+  // `mesh` must be valid (Mesh::Validate).
   static constexpr float kFirstErrorM = 0.00025f;
+  // The ratio of successive target errors. sqrt(2) was measured (BENCHMARKS.md, "The eighth
+  // session"): twice the levels, each chosen level closer to the budget, the tomato can's
+  // 1402 -> 792 triangles; the main job's ADD(-S) < 4 cm 40.9 % against 41.6 % over 40 seeds
+  // each (-0.7 +- 0.75 points), and the tomato can still below 20x Embree. Not adopted.
+  static constexpr float kErrorStep = 2.0f;
   static constexpr int kMaxLevels = 7;
   static constexpr size_t kMinTriangles = 64;
   static LodChain Build(const Mesh& mesh);
