@@ -60,17 +60,32 @@ Status FindObject(const Dataset& ds, int obj_id, Frame* frame, Detection* box) {
 
 }  // namespace
 
-std::string MachineDescription() {
-  std::ifstream in("/proc/cpuinfo");
-  std::string line, model;
+std::string MachineDescriptionFrom(std::istream& cpuinfo, int hardware_threads) {
+  std::string line, model, family, model_number;
   int cpus = 0;
-  while (std::getline(in, line)) {
-    if (line.rfind("model name", 0) == 0 && model.empty()) model = line.substr(line.find(':') + 2);
+  // The value after "key<tabs>: " of a /proc/cpuinfo line that starts with key and a tab.
+  auto value = [&line](const char* key, std::string* out) {
+    const std::string k = std::string(key) + "\t";
+    if (out->empty() && line.rfind(k, 0) == 0 && line.find(':') != std::string::npos)
+      *out = line.substr(std::min(line.size(), line.find(':') + 2));
+  };
+  while (std::getline(cpuinfo, line)) {
+    value("model name", &model);
+    value("cpu family", &family);
+    value("model", &model_number);  // "model\t\t: 1", not "model name"
     if (line.rfind("processor", 0) == 0) ++cpus;
   }
   if (model.empty()) model = "unknown CPU";
-  return model + ", " + std::to_string(cpus ? cpus : static_cast<int>(std::thread::hardware_concurrency())) +
-         " logical CPUs";
+  // Virtual machines often report only the brand ("AMD EPYC"); family and model tell the
+  // generations apart (AMD family 25: model 1 Zen 3, model 17 Zen 4), which ran mcpose 2x
+  // apart in speed (BENCHMARKS.md).
+  if (!family.empty() && !model_number.empty()) model += " (family " + family + " model " + model_number + ")";
+  return model + ", " + std::to_string(cpus ? cpus : hardware_threads) + " logical CPUs";
+}
+
+std::string MachineDescription() {
+  std::ifstream in("/proc/cpuinfo");
+  return MachineDescriptionFrom(in, static_cast<int>(std::thread::hardware_concurrency()));
 }
 
 StatusOr<std::vector<BenchObject>> RunBench(const Dataset& ds, const BenchOptions& options,

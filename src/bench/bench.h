@@ -10,6 +10,7 @@
 #pragma once
 
 #include <functional>
+#include <istream>
 #include <string>
 #include <vector>
 
@@ -72,7 +73,10 @@ using BenchProgressFn = std::function<void(const BenchObject&)>;
 StatusOr<std::vector<BenchObject>> RunBench(const Dataset& dataset, const BenchOptions& options,
                                             const BenchProgressFn& progress);
 
-// "model name @ N cores, ..." of this machine (from /proc/cpuinfo), for records.
+// "model name (family F model M), N logical CPUs" of this machine (from /proc/cpuinfo), for
+// records; "unknown CPU, N logical CPUs" where /proc/cpuinfo says nothing.
 std::string MachineDescription();
+// The same from a /proc/cpuinfo-format stream; hardware_threads where it lists no processor.
+std::string MachineDescriptionFrom(std::istream& cpuinfo, int hardware_threads);
 
 }  // namespace mcpose::bench
