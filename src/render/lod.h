@@ -33,8 +33,9 @@ class LodChain {
   static constexpr float kFirstErrorM = 0.00025f;
   // The ratio of successive target errors. sqrt(2) was measured (BENCHMARKS.md, "The eighth
   // session"): twice the levels, each chosen level closer to the budget, the tomato can's
-  // 1402 -> 792 triangles; the main job's ADD(-S) < 4 cm 40.9 % against 41.6 % over 40 seeds
-  // each (-0.7 +- 0.75 points), and the tomato can still below 20x Embree. Not adopted.
+  // 1402 -> 792 triangles; the main job's ADD(-S) < 4 cm 40.9 % over 40 seeds, no better than
+  // the defaults' (+0.13 +- 0.61 points over their 109 seeds), and the tomato can still below
+  // 20x Embree. Not adopted.
   static constexpr float kErrorStep = 2.0f;
   static constexpr int kMaxLevels = 7;
   static constexpr size_t kMinTriangles = 64;
