@@ -42,12 +42,15 @@ for ((r = 1; r <= RUNS; r++)); do
       for (i = 1; i + 4 <= n; i += 5) { x = b[i + 3]; sub(/x$/, "", x); printf " %s %s", b[i], x }
       printf "\n" }' "out/bench/run_$r.txt"
 done | sort -s -k1,1 | awk '
-  function flush(   k, line) {
+  function flush(   j, k, line) {
     if (name == "") return
     line = sprintf("%-22s full %s ms  r+i %s ms  <= 3 ms %d/%d", name, stat(fu, n, "%.2f"), stat(ri, n, "%.2f"), le3, n)
-    for (k in bn) line = line sprintf("  %s %sx, >= %d: %d/%d", k, stat_b(k), k == "embree" ? 20 : 30, bok[k], bn[k])
+    for (j = 1; j <= nb; j++) {  # the baselines in the order the bench printed them
+      k = names[j]
+      line = line sprintf("  %s %sx, >= %d: %d/%d", k, stat_b(k), k == "embree" ? 20 : 30, bok[k], bn[k])
+    }
     print line
-    delete bv; delete bn; delete bok; n = 0; le3 = 0
+    delete bv; delete bn; delete bok; delete names; nb = 0; n = 0; le3 = 0
   }
   # "min-max (median)" of v[1..m] in format f, v sorted in place.
   function stat(v, m, f,   i, j, t, med) {
@@ -60,7 +63,8 @@ done | sort -s -k1,1 | awk '
   {
     n++; ri[n] = $5; fu[n] = $7; le3 += ($7 <= 3.0)
     for (i = 8; i + 1 <= NF; i += 2) {
-      k = $i; bn[k]++; bv[k, bn[k]] = $(i + 1)
+      k = $i; if (!(k in bn)) names[++nb] = k
+      bn[k]++; bv[k, bn[k]] = $(i + 1)
       bok[k] += (k == "embree" ? $(i + 1) >= 20 : $(i + 1) >= 30)
     }
   }
