@@ -5,7 +5,11 @@
 # standard error) of every seed recorded for TAG. Each seed's results go to
 # out/seeds/TAG/seed_S.csv and one line per seed to out/seeds/summary.tsv (TAG, seed,
 # ADD(-S) < 4, ADD-S < 4, seconds, options; a seed run again replaces its line), which
-# scripts/accuracy_compare.sh reads.
+# scripts/accuracy_compare.sh reads. Each instance's result goes to out/seeds/instances.tsv
+# (scripts/accuracy_instances.py compares two tags object by object).
+# DETECTIONS=FILE runs a subset of out/detections.json (e.g. one class's boxes: each (image,
+# class) has its own random streams, so its poses are those of the whole run); summary.tsv
+# then records the shares of the subset's instances, under a tag of their own.
 # Usage: scripts/accuracy_seeds.sh TAG FIRST LAST [mcpose estimate options]
 #   scripts/accuracy_seeds.sh reference 0 9 --engine float-simd --lod-px 0 --pixel-stride 1 --max-grid-pixels 0
 #   scripts/accuracy_seeds.sh defaults 0 9
@@ -13,14 +17,15 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 if [ $# -lt 3 ]; then
-  sed -n '2,12p' "$0" | sed 's/^# \{0,1\}//' >&2
+  sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//' >&2
   exit 2
 fi
 TAG=$1 FIRST=$2 LAST=$3
 shift 3
 DATA="${MCPOSE_DATA_DIR:-$(cd .. && pwd)/shared/data}"
 case "$TAG" in *[!A-Za-z0-9_.-]*|"") echo "accuracy_seeds: TAG must be letters, digits, '_', '.', '-'" >&2; exit 2 ;; esac
-for f in build/mcpose out/detections.json; do
+DETECTIONS=${DETECTIONS:-out/detections.json}
+for f in build/mcpose "$DETECTIONS"; do
   [ -e "$f" ] || { echo "accuracy_seeds: $f is missing (run scripts/run_main.sh first)" >&2; exit 1; }
 done
 mkdir -p "out/seeds/$TAG"
@@ -29,12 +34,16 @@ touch "$SUMMARY"
 for ((s = FIRST; s <= LAST; s++)); do
   csv="out/seeds/$TAG/seed_$s.csv"
   start=$(date +%s)
-  ./build/mcpose estimate --dataset "$DATA/ycbv" --detections out/detections.json --out "$csv" --seed "$s" -q "$@"
+  ./build/mcpose estimate --dataset "$DATA/ycbv" --detections "$DETECTIONS" --out "$csv" --seed "$s" -q "$@"
   seconds=$(($(date +%s) - start))
   # The eval table's ALL row: ... | ADD-S <2 <4 AUC | ADD(-S) <2 <4 AUC.
-  all=$(./build/mcpose eval --dataset "$DATA/ycbv" --results "$csv" | awk '$1 == "ALL"')
+  all=$(./build/mcpose eval --dataset "$DATA/ycbv" --results "$csv" --json "${csv%.csv}.eval.json" | awk '$1 == "ALL"')
   add_s=$(echo "$all" | awk '{print $14}') adds=$(echo "$all" | awk '{print $10}')
   [ -n "$add_s" ] || { echo "accuracy_seeds: no ALL row in the eval of $csv" >&2; exit 1; }
+  subset=$(/usr/bin/python3 scripts/accuracy_instances.py record "$TAG" "$s" "${csv%.csv}.eval.json" "$DETECTIONS")
+  if [ "$DETECTIONS" != out/detections.json ]; then
+    add_s=$(echo "$subset" | awk '{print $1}') adds=$(echo "$subset" | awk '{print $2}')
+  fi
   awk -F'\t' -v t="$TAG" -v s="$s" '!($1 == t && $2 == s)' "$SUMMARY" > "$SUMMARY.tmp"
   printf '%s\t%s\t%s\t%s\t%s\t%s\n' "$TAG" "$s" "$add_s" "$adds" "$seconds" "$*" >> "$SUMMARY.tmp"
   mv "$SUMMARY.tmp" "$SUMMARY"

@@ -1,0 +1,144 @@
+#!/usr/bin/python3
+"""Per-instance accuracy records over seeds, and per-object comparisons of two tags.
+
+The seeds of scripts/accuracy_seeds.sh are whole runs; their ADD(-S) < 4 cm shares (summary.tsv)
+say how much two engine options differ, not where. This keeps one line per seed and instance in
+out/seeds/instances.tsv (tag, seed, scene, image, object id and name, ADD(-S) in metres,
+success: ADD(-S) < 4 cm) and
+compares two tags object by object.
+
+Each (image, class) draws from its own random streams (Estimator::Estimate's stream_id), so an
+instance's result depends on the seed and the options only, not on the other boxes of the run:
+a run on a subset of the detections (accuracy_seeds.sh with DETECTIONS=subset.json) gives the
+subset's instances the poses of the whole run, and instances may be run with different numbers
+of seeds. Instances are independent samples, and the seeds of one instance too, so an object's
+expected successes are the sum of its instances' success rates over their seeds, with the
+binomial standard error of that sum.
+
+Usage:
+  accuracy_instances.py record TAG SEED EVAL_JSON DETECTIONS_JSON [instances.tsv]
+      Appends the instances of EVAL_JSON (`mcpose eval --json`) whose (scene, image, class) has
+      a box in DETECTIONS_JSON, replacing the tag's earlier lines for that seed; prints the
+      subset's ADD(-S) < 4 cm and ADD-S < 4 cm in % of those instances.
+  accuracy_instances.py compare TAG_A TAG_B [instances.tsv]
+      Per object, over the instances both tags have: seeds, expected successes of A and B, the
+      difference and its standard error; then the total in points of the compared instances and
+      of the 108 of the main job.
+"""
+import csv
+import json
+import math
+import os
+import sys
+from collections import defaultdict
+
+DEFAULT_TSV = "out/seeds/instances.tsv"
+THRESHOLD_M = 0.04
+
+
+def fail(message):
+    print(f"accuracy_instances: {message}", file=sys.stderr)
+    sys.exit(1)
+
+
+def load_json(path):
+    try:
+        with open(path) as f:
+            return json.load(f)
+    except (OSError, ValueError) as e:
+        fail(f"{path}: {e}")
+
+
+def record(tag, seed, eval_json, detections_json, tsv):
+    evaluation, detections = load_json(eval_json), load_json(detections_json)
+    boxed = {(d["scene_id"], d["image_id"], d["category_id"]) for d in detections}
+    names = {o["obj_id"]: o["name"] for o in evaluation["per_object"]}
+    rows = []
+    for inst in evaluation["instances"]:
+        key = (inst["scene_id"], inst["im_id"], inst["obj_id"])
+        if key not in boxed:
+            continue
+        error = inst["add_or_adds_m"]  # None: no result for a boxed instance, a failure
+        adds = inst["adds_m"]
+        rows.append([tag, seed, *key, names.get(key[2], str(key[2])), "" if error is None else f"{error:.6f}",
+                     int(error is not None and error < THRESHOLD_M),
+                     int(adds is not None and adds < THRESHOLD_M)])
+    if not rows:
+        fail(f"no instance of {eval_json} has a box in {detections_json}")
+    kept = []
+    if os.path.exists(tsv):
+        with open(tsv) as f:
+            kept = [r for r in csv.reader(f, delimiter="\t") if not (r[0] == tag and r[1] == str(seed))]
+    with open(tsv + ".tmp", "w", newline="") as f:
+        w = csv.writer(f, delimiter="\t", lineterminator="\n")
+        w.writerows(kept)
+        w.writerows([r[:8] for r in rows])
+    os.replace(tsv + ".tmp", tsv)
+    n = len(rows)
+    print(f"{100 * sum(r[7] for r in rows) / n:.1f} {100 * sum(r[8] for r in rows) / n:.1f} {n}")
+
+
+def load(tsv):
+    """{tag: {(scene, image, object): [successes over seeds]}}, {object: name}"""
+    if not os.path.exists(tsv):
+        fail(f"{tsv} is missing (scripts/accuracy_seeds.sh writes it)")
+    out, names = defaultdict(lambda: defaultdict(list)), {}
+    with open(tsv) as f:
+        for r in csv.reader(f, delimiter="\t"):
+            out[r[0]][(int(r[2]), int(r[3]), int(r[4]))].append(int(r[7]))
+            names[int(r[4])] = r[5]
+    return out, names
+
+
+def rate(outcomes):
+    """The success rate over seeds and the variance of that mean (sample variance / n)."""
+    n = len(outcomes)
+    p = sum(outcomes) / n
+    var = sum((x - p) ** 2 for x in outcomes) / (n - 1) / n if n > 1 else 0.25
+    return p, var
+
+
+def compare(tag_a, tag_b, tsv, main_job_instances=108):
+    data, names = load(tsv)
+    for t in (tag_a, tag_b):
+        if t not in data:
+            fail(f"{tsv} has no tag {t}")
+    common = sorted(set(data[tag_a]) & set(data[tag_b]))
+    if not common:
+        fail(f"{tag_a} and {tag_b} share no instance")
+    per_object = defaultdict(list)
+    for key in common:
+        per_object[key[2]].append(key)
+    print(f"{'object':24} inst  seeds A  seeds B | {tag_a[:12]:>12} {tag_b[:12]:>12} | A - B (SE)")
+    total_d, total_var = 0.0, 0.0
+    for obj in sorted(per_object):
+        keys = per_object[obj]
+        sa = [rate(data[tag_a][k]) for k in keys]
+        sb = [rate(data[tag_b][k]) for k in keys]
+        ea, eb = sum(p for p, _ in sa), sum(p for p, _ in sb)
+        var = sum(v for _, v in sa) + sum(v for _, v in sb)
+        total_d += ea - eb
+        total_var += var
+        na = f"{min(len(data[tag_a][k]) for k in keys)}-{max(len(data[tag_a][k]) for k in keys)}"
+        nb = f"{min(len(data[tag_b][k]) for k in keys)}-{max(len(data[tag_b][k]) for k in keys)}"
+        print(f"{names[obj]:24} {len(keys):4} {na:>8} {nb:>8} | {ea:12.2f} {eb:12.2f} | "
+              f"{ea - eb:+.2f} ({math.sqrt(var):.2f})")
+    se = math.sqrt(total_var)
+    print(f"{'ALL':24} {len(common):4} | A - B {total_d:+.2f} instances (SE {se:.2f}); "
+          f"{100 * total_d / main_job_instances:+.2f} points of the main job's {main_job_instances} "
+          f"(SE {100 * se / main_job_instances:.2f}; 90 % interval [{100 * (total_d - 1.6449 * se) / main_job_instances:+.2f}, "
+          f"{100 * (total_d + 1.6449 * se) / main_job_instances:+.2f}])")
+
+
+def main(argv):
+    if len(argv) >= 6 and argv[1] == "record":
+        record(argv[2], int(argv[3]), argv[4], argv[5], argv[6] if len(argv) > 6 else DEFAULT_TSV)
+    elif len(argv) >= 4 and argv[1] == "compare":
+        compare(argv[2], argv[3], argv[4] if len(argv) > 4 else DEFAULT_TSV)
+    else:
+        print(__doc__, file=sys.stderr)
+        sys.exit(2)
+
+
+if __name__ == "__main__":
+    main(sys.argv)
