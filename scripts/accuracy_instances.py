@@ -19,11 +19,12 @@ Usage:
   accuracy_instances.py record TAG SEED EVAL_JSON DETECTIONS_JSON [instances.tsv]
       Appends the instances of EVAL_JSON (`mcpose eval --json`) whose (scene, image, class) has
       a box in DETECTIONS_JSON, replacing the tag's earlier lines for that seed; prints the
-      subset's ADD(-S) < 4 cm and ADD-S < 4 cm in % of those instances.
+      subset's ADD(-S) < 4 cm and ADD-S < 4 cm in % of those instances, and their number.
   accuracy_instances.py compare TAG_A TAG_B [instances.tsv]
       Per object, over the instances both tags have: seeds, expected successes of A and B, the
-      difference and its standard error; then the total in points of the compared instances and
-      of the 108 of the main job.
+      difference and its standard error (an instance with one seed counts the largest binomial
+      variance, 0.25); then the total in instances and in points of the main job's 108, with a
+      normal 90 % interval.
 """
 import csv
 import json
@@ -84,9 +85,13 @@ def load(tsv):
         fail(f"{tsv} is missing (scripts/accuracy_seeds.sh writes it)")
     out, names = defaultdict(lambda: defaultdict(list)), {}
     with open(tsv) as f:
-        for r in csv.reader(f, delimiter="\t"):
-            out[r[0]][(int(r[2]), int(r[3]), int(r[4]))].append(int(r[7]))
-            names[int(r[4])] = r[5]
+        for line, r in enumerate(csv.reader(f, delimiter="\t"), 1):
+            try:
+                key, success = (int(r[2]), int(r[3]), int(r[4])), int(r[7])
+            except (IndexError, ValueError):
+                fail(f"{tsv}:{line}: not a record (tag, seed, scene, image, object, name, ADD(-S), success)")
+            out[r[0]][key].append(success)
+            names[key[2]] = r[5]
     return out, names
 
 
