@@ -206,6 +206,38 @@ TEST_P(CliThreads, SameSeedSameCsvAtAnyThreadCount) {
   EXPECT_EQ(runs[0], runs[2]);
 }
 
+// Each (image, class) draws from random streams of its own, so a subset of the boxes gives the
+// whole run's rows for its classes (scripts/accuracy_seeds.sh DETECTIONS= relies on this).
+TEST(Cli, EachClassAloneGivesTheWholeRunsRow) {
+  const fs::path dir = testing::TempDir("subsets");
+  const nlohmann::json all = Scene49Detections();
+  auto run = [&](const nlohmann::json& dets, const std::string& name) {
+    WriteText(dir / (name + ".json"), dets.dump());
+    const fs::path out = dir / (name + ".csv");
+    const CliResult r = RunCli("estimate --dataset " + testing::YcbvDir() + " --detections " +
+                                   (dir / (name + ".json")).string() + " --out " + out.string() +
+                                   " --iterations 6 --seed 7 -q",
+                               dir);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return RowsWithoutTime(out);
+  };
+  const std::vector<std::string> whole = run(all, "all");
+  ASSERT_EQ(whole.size(), 4u);  // header + classes 3, 6, 9
+  std::vector<std::string> pieced = {whole[0]};
+  for (int category : {3, 6, 9}) {
+    nlohmann::json one = nlohmann::json::array();
+    for (const auto& d : all)
+      if (d["category_id"] == category) one.push_back(d);
+    const std::vector<std::string> rows = run(one, "class" + std::to_string(category));
+    ASSERT_EQ(rows.size(), 2u) << "class " << category;
+    pieced.push_back(rows[1]);
+  }
+  std::vector<std::string> sorted_whole = whole;
+  std::sort(sorted_whole.begin() + 1, sorted_whole.end());
+  std::sort(pieced.begin() + 1, pieced.end());
+  EXPECT_EQ(pieced, sorted_whole);
+}
+
 std::string EngineTestName(const ::testing::TestParamInfo<std::string>& info) {
   static const char* const kNames[] = {"scalar", "fixed", "simd_lod", "float_simd"};
   return kNames[info.index];
