@@ -12,7 +12,8 @@ instance's result depends on the seed and the options only, not on the other box
 a run on a subset of the detections (accuracy_seeds.sh with DETECTIONS=subset.json) gives the
 subset's instances the poses of the whole run (test Cli.EachClassAloneGivesTheWholeRunsRow; on
 the main job, defaults seed 0: the 57 rows of the nine stride-3 classes and the cracker box's 5
-run alone equal the whole run's), and instances may be run with different numbers of seeds. Instances are independent samples, and the seeds of one instance too, so an object's
+run alone equal the whole run's), and instances may be run with different numbers of seeds.
+Instances are independent samples, and the seeds of one instance too, so an object's
 expected successes are the sum of its instances' success rates over their seeds, with the
 binomial standard error of that sum.
 
