@@ -327,6 +327,26 @@ TEST(Cli, SimdTargetCapGivesTheSameCsv) {
   EXPECT_FALSE(fs::exists(bad));
 }
 
+// --no-lod-unbiased (meshoptimizer's vertices for the LOD levels) against the default unbiased
+// levels: both run, and --out-json records which.
+TEST(Cli, LodVertexPlacementIsRecordedInTheJson) {
+  const fs::path dir = testing::TempDir("lod_unbiased");
+  WriteText(dir / "dets.json", Scene49Detections().dump());
+  for (const std::string flag : {"", " --no-lod-unbiased"}) {
+    const fs::path out = dir / "r.csv", json = dir / "r.json";
+    const CliResult r = RunCli("estimate --dataset " + testing::YcbvDir() + " --detections " +
+                                   (dir / "dets.json").string() + " --out " + out.string() + " --out-json " +
+                                   json.string() + " --iterations 4 --seed 5 -q" + flag,
+                               dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const nlohmann::json doc = nlohmann::json::parse(ReadText(json));
+    EXPECT_EQ(doc["options"]["lod_unbiased"].get<bool>(), flag.empty()) << flag;
+    ASSERT_EQ(doc["objects"].size(), 3u);
+    for (const auto& o : doc["objects"])
+      for (const auto& n : o["box_triangles"]) EXPECT_GT(n.get<int>(), 0) << flag;
+  }
+}
+
 // `mcpose bench` on one object with both baselines: every documented JSON field is there, the
 // baselines count the same inliers as mcpose (the comparison is of the same work).
 TEST(Cli, BenchWritesEveryFieldAndBaselinesAgree) {

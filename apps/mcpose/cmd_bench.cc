@@ -134,6 +134,7 @@ Status RunBenchCommand(BenchArgs& a) {
                           {"options",
                            {{"engine", RasterBackendName(o.backend)},
                             {"lod_px", o.lod_error_px},
+                            {"lod_unbiased", o.lod_unbiased},
                             {"pixel_stride", o.pixel_stride},
                             {"max_grid_pixels", o.max_grid_pixels},
                             {"backface_culling", o.backface_culling},
@@ -167,6 +168,8 @@ void AddBenchCommand(CLI::App& app, Status* status) {
   cmd->add_option("--threads", o.threads, "Raster cores (worker threads); 0 = all hardware threads")->capture_default_str();
   cmd->add_option("--engine", args->engine, "Raster core: scalar, fixed, simd or float-simd")->capture_default_str();
   cmd->add_option("--lod-px", o.lod_error_px, "Level-of-detail budget: measured deviation in image pixels at the box depth; 0 = full mesh")->capture_default_str();
+  cmd->add_flag("--lod-unbiased,!--no-lod-unbiased", o.lod_unbiased,
+                "LOD levels' vertices moved so that the full surface lies on each level on average (default on)");
   cmd->add_option("--pixel-stride", o.pixel_stride, "Score every s-th pixel in x and y of each box")->capture_default_str();
   cmd->add_option("--max-grid-pixels", o.max_grid_pixels, "Coarser stride for boxes with more grid pixels; 0 = none")->capture_default_str();
   cmd->add_flag("--backface-culling,!--no-backface-culling", o.backface_culling,

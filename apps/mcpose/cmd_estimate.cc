@@ -130,6 +130,7 @@ Status RunEstimate(EstimateArgs& a) {
                             {"weights", {o.weight_a, o.weight_b, o.weight_c}},
                             {"engine", RasterBackendName(o.backend)},
                             {"lod_px", o.lod_error_px},
+                            {"lod_unbiased", o.lod_unbiased},
                             {"occlusion_aware", o.occlusion_aware},
                             {"pixel_stride", o.pixel_stride},
                             {"max_grid_pixels", o.max_grid_pixels},
@@ -189,6 +190,8 @@ void AddEstimateCommand(CLI::App& app, Status* status) {
   cmd->add_option("--pixel-stride", o.pixel_stride, "Score every s-th pixel in x and y of each box; 1 with --max-grid-pixels 0 = every pixel")->capture_default_str();
   cmd->add_option("--max-grid-pixels", o.max_grid_pixels, "Sample a box with more grid pixels than this at a coarser stride; 0 = no budget")->capture_default_str();
   cmd->add_option("--lod-px", o.lod_error_px, "Level of detail: coarsest simplified mesh whose measured deviation from the full mesh is within this many image pixels at the box depth; 0 = full mesh")->capture_default_str();
+  cmd->add_flag("--lod-unbiased,!--no-lod-unbiased", o.lod_unbiased,
+                "LOD levels' vertices moved so that the full surface lies on each level on average (default on; --no-lod-unbiased: meshoptimizer's vertices, levels inside the full surface where it bulges)");
   cmd->add_flag("--occlusion-aware,!--no-occlusion-aware", o.occlusion_aware,
                 "Leave rendered pixels hidden behind observed surfaces out of N_r (default on; --no-occlusion-aware: the paper's N_r)");
   cmd->add_flag("--no-backface-culling", args->no_culling, "Rasterize back faces too");

@@ -160,7 +160,8 @@ StatusOr<std::vector<BenchObject>> RunBench(const Dataset& ds, const BenchOption
     filter::ParticleSet particles;
     engine::InitializeSamples(K, mesh, std::span(&r.box, 1), boxes, eo, GroupStreamId(r.frame.scene_id, r.frame.image_id, obj_id),
                               &particles);
-    const render::LodChain lod = render::LodChain::Build(mesh);
+    const render::LodChain lod = render::LodChain::Build(
+        mesh, eo.lod_unbiased ? render::LodVertices::kUnbiased : render::LodVertices::kKept);
     const render::LodLevel& level = lod.level(engine::SelectLodLevel(lod, K, mesh, r.box, boxes[0], eo));
     const Mesh& render_mesh = level.mesh;
     r.lod_deviation_mm = 1000.0 * level.error_m;

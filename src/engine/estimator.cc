@@ -43,7 +43,8 @@ struct Estimator::Impl {
       std::lock_guard<std::mutex> lock(lod_mutex);
       if (auto it = lod_cache.find(key); it != lod_cache.end()) return it->second;
     }
-    auto built = std::make_shared<const render::LodChain>(render::LodChain::Build(mesh));
+    auto built = std::make_shared<const render::LodChain>(render::LodChain::Build(
+        mesh, options.lod_unbiased ? render::LodVertices::kUnbiased : render::LodVertices::kKept));
     std::lock_guard<std::mutex> lock(lod_mutex);
     return lod_cache.emplace(key, std::move(built)).first->second;
   }

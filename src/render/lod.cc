@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstring>
 
+#include <Eigen/Geometry>
 #include <meshoptimizer.h>
 
 #include "core/check.h"
@@ -28,9 +29,37 @@ Mesh Compact(const Mesh& full, const std::vector<uint32_t>& indices) {
   return out;
 }
 
+// Moves each vertex of `level` along its area-weighted normal by the area-weighted mean signed
+// offset of the full surface from the level triangles that use it (each full triangle counts
+// for the three vertices of its centroid's nearest level triangle), `rounds` times, each from
+// the moved level. A vertex no full centroid is nearest to, or without a normal, stays.
+void Unbias(const Mesh& full, int rounds, Mesh* level) {
+  const size_t nv = level->vertices_m.size();
+  std::vector<Eigen::Vector3f> normals(nv);
+  std::vector<double> sum(nv), weight(nv);
+  for (int r = 0; r < rounds; ++r) {
+    std::fill(normals.begin(), normals.end(), Eigen::Vector3f::Zero());
+    for (const auto& t : level->triangles) {
+      const Eigen::Vector3f& v0 = level->vertices_m[t[0]];
+      const Eigen::Vector3f n = (level->vertices_m[t[1]] - v0).cross(level->vertices_m[t[2]] - v0);
+      for (uint32_t v : t) normals[v] += n;  // |n| = twice the area: area-weighted
+    }
+    std::fill(sum.begin(), sum.end(), 0.0);
+    std::fill(weight.begin(), weight.end(), 0.0);
+    for (const SurfaceOffset& o : SurfaceOffsets(full, *level))
+      for (uint32_t v : level->triangles[o.nearest_triangle]) {
+        sum[v] += o.area_m2 * o.signed_m;
+        weight[v] += o.area_m2;
+      }
+    for (size_t v = 0; v < nv; ++v)
+      if (weight[v] > 0 && normals[v].norm() > 0)
+        level->vertices_m[v] += static_cast<float>(sum[v] / weight[v]) * normals[v].normalized();
+  }
+}
+
 }  // namespace
 
-LodChain LodChain::Build(const Mesh& mesh) {
+LodChain LodChain::Build(const Mesh& mesh, LodVertices vertices) {
   LodChain chain;
   chain.levels_.push_back(LodLevel{mesh, 0.f, 0.f, ClusterSet::Build(mesh)});
   if (mesh.triangles.size() <= kMinTriangles) return chain;
@@ -59,6 +88,7 @@ LodChain LodChain::Build(const Mesh& mesh) {
     if (n >= 3 && n / 3 < prev) {
       std::vector<uint32_t> kept(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(n));
       Mesh level = Compact(mesh, kept);
+      if (vertices == LodVertices::kUnbiased) Unbias(mesh, kUnbiasRounds, &level);
       // The measured deviation (or the reported error if larger), never below the previous
       // level's: errors must grow along the chain for Select.
       const float reported = result_error * scale;

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include <Eigen/Geometry>
+
 namespace mcpose::render {
 
 namespace {
@@ -106,8 +108,12 @@ TriangleGrid::TriangleGrid(const Mesh& mesh) : mesh_(mesh) {
   }
 }
 
-float TriangleGrid::Distance(const Vec3& p, float enough) const {
-  if (mesh_.triangles.empty()) return std::numeric_limits<float>::infinity();
+float TriangleGrid::Distance(const Vec3& p, float enough) const { return Search(p, enough).distance; }
+
+TriangleGrid::Nearest TriangleGrid::NearestTriangle(const Vec3& p) const { return Search(p, 0.f); }
+
+TriangleGrid::Nearest TriangleGrid::Search(const Vec3& p, float enough) const {
+  if (mesh_.triangles.empty()) return {UINT32_MAX, std::numeric_limits<float>::infinity()};
   // The cell of p's nearest point in the grid's box. Every triangle in a cell more than r cells
   // away (in the max norm) lies at least r cells' widths from p: inside the box directly, and
   // outside it because p is at least as far from any point of the box as its projection is.
@@ -115,6 +121,7 @@ float TriangleGrid::Distance(const Vec3& p, float enough) const {
   for (int k = 0; k < 3; ++k) c[k] = std::clamp(static_cast<int>(std::floor((p[k] - lo_[k]) / cell_)), 0, n_[k] - 1);
   const float enough2 = enough * enough;
   float best2 = std::numeric_limits<float>::infinity();
+  uint32_t best = UINT32_MAX;
   const int max_r = std::max({n_[0], n_[1], n_[2]});
   for (int r = 0; r <= max_r; ++r) {
     for (int z = std::max(0, c[2] - r); z <= std::min(n_[2] - 1, c[2] + r); ++z)
@@ -124,15 +131,16 @@ float TriangleGrid::Distance(const Vec3& p, float enough) const {
           const size_t cell = (static_cast<size_t>(z) * n_[1] + y) * n_[0] + x;
           for (uint32_t j = start_[cell]; j < start_[cell + 1]; ++j) {
             const auto& t = mesh_.triangles[items_[j]];
-            best2 = std::min(best2, PointTriangleDistanceSquared(p, mesh_.vertices_m[t[0]], mesh_.vertices_m[t[1]],
-                                                                 mesh_.vertices_m[t[2]]));
+            const float d2 =
+                PointTriangleDistanceSquared(p, mesh_.vertices_m[t[0]], mesh_.vertices_m[t[1]], mesh_.vertices_m[t[2]]);
+            if (d2 < best2) best2 = d2, best = items_[j];
           }
-          if (best2 <= enough2) return std::sqrt(best2);
+          if (best2 <= enough2) return {best, std::sqrt(best2)};
         }
     const float bound = static_cast<float>(r) * cell_;
     if (best2 <= bound * bound) break;
   }
-  return std::sqrt(best2);
+  return {best, std::sqrt(best2)};
 }
 
 float MaxDistanceToSurface(std::span<const Vec3> points, const Mesh& mesh) {
@@ -154,12 +162,42 @@ float MaxDistanceToSurfaceReference(std::span<const Vec3> points, const Mesh& me
   return worst;
 }
 
+std::vector<SurfaceOffset> SurfaceOffsets(const Mesh& full, const Mesh& simplified) {
+  std::vector<SurfaceOffset> out;
+  out.reserve(full.triangles.size());
+  const TriangleGrid grid(simplified);
+  for (const auto& t : full.triangles) {
+    const Vec3 &a = full.vertices_m[t[0]], &b = full.vertices_m[t[1]], &c = full.vertices_m[t[2]];
+    const Vec3 centroid = (a + b + c) / 3.f;
+    const TriangleGrid::Nearest hit = grid.NearestTriangle(centroid);
+    if (hit.triangle == UINT32_MAX) continue;  // nothing to be near to
+    const auto& s = simplified.triangles[hit.triangle];
+    const Vec3& s0 = simplified.vertices_m[s[0]];
+    const Vec3 normal = (simplified.vertices_m[s[1]] - s0).cross(simplified.vertices_m[s[2]] - s0);
+    const bool in_front = (centroid - s0).dot(normal) >= 0;
+    out.push_back({hit.triangle, in_front ? hit.distance : -hit.distance, 0.5f * (b - a).cross(c - a).norm()});
+  }
+  return out;
+}
+
+OffsetMeans MeanOffsets(std::span<const SurfaceOffset> offsets) {
+  double area = 0;
+  OffsetMeans m;
+  for (const SurfaceOffset& o : offsets) {
+    area += o.area_m2;
+    m.signed_m += static_cast<double>(o.area_m2) * o.signed_m;
+    m.abs_m += static_cast<double>(o.area_m2) * std::fabs(o.signed_m);
+  }
+  if (area > 0) m.signed_m /= area, m.abs_m /= area;
+  return m;
+}
+
 DeviationMeter::DeviationMeter(const Mesh& full)
     : full_grid_(full), full_samples_(SurfaceSamples(full, /*vertices=*/true, /*centroids_and_edge_midpoints=*/false)) {}
 
 float DeviationMeter::Measure(const Mesh& simplified) const {
   float worst = MaxDistanceToSurface(full_samples_, simplified);
-  for (const Vec3& p : SurfaceSamples(simplified, /*vertices=*/false, /*centroids_and_edge_midpoints=*/true))
+  for (const Vec3& p : SurfaceSamples(simplified, /*vertices=*/true, /*centroids_and_edge_midpoints=*/true))
     worst = std::max(worst, full_grid_.Distance(p, worst));
   return worst;
 }
@@ -167,7 +205,7 @@ float DeviationMeter::Measure(const Mesh& simplified) const {
 float SampledDeviationReferenceM(const Mesh& full, const Mesh& simplified) {
   return std::max(
       MaxDistanceToSurfaceReference(SurfaceSamples(full, true, false), simplified),
-      MaxDistanceToSurfaceReference(SurfaceSamples(simplified, false, true), full));
+      MaxDistanceToSurfaceReference(SurfaceSamples(simplified, true, true), full));
 }
 
 }  // namespace mcpose::render

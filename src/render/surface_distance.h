@@ -34,7 +34,17 @@ class TriangleGrid {
   // An empty mesh gives +infinity.
   float Distance(const Eigen::Vector3f& p, float enough = 0.f) const;
 
+  // The nearest triangle to p (its index in the mesh) and its distance, exact. An empty mesh
+  // gives {UINT32_MAX, +infinity}.
+  struct Nearest {
+    uint32_t triangle;
+    float distance;
+  };
+  Nearest NearestTriangle(const Eigen::Vector3f& p) const;
+
  private:
+  Nearest Search(const Eigen::Vector3f& p, float enough) const;
+
   const Mesh& mesh_;
   Eigen::Vector3f lo_ = Eigen::Vector3f::Zero();
   float cell_ = 1.f;
@@ -48,12 +58,30 @@ float MaxDistanceToSurface(std::span<const Eigen::Vector3f> points, const Mesh& 
 // The reference: every point against every triangle.
 float MaxDistanceToSurfaceReference(std::span<const Eigen::Vector3f> points, const Mesh& mesh);
 
+// Where a full surface lies against a simplified one, triangle by triangle of the full mesh:
+// its centroid's nearest simplified triangle, the distance to it, signed positive where the
+// centroid lies in front of that triangle's face (outside a closed mesh whose triangles face
+// outward), and the full triangle's area, the centroid's weight.
+struct SurfaceOffset {
+  uint32_t nearest_triangle;
+  float signed_m;
+  float area_m2;
+};
+std::vector<SurfaceOffset> SurfaceOffsets(const Mesh& full, const Mesh& simplified);
+
+// Area-weighted means of the offsets' signed distance (the simplified surface's bias: > 0
+// where it lies inside the full one on average) and of their absolute value, metres.
+struct OffsetMeans {
+  double signed_m = 0, abs_m = 0;
+};
+OffsetMeans MeanOffsets(std::span<const SurfaceOffset> offsets);
+
 // The sampled two-sided (Hausdorff) distance between the surface of a full mesh and its
 // simplifications: the larger of the distance from the full mesh's vertices to the
-// simplified surface, and from the simplified mesh's centroids and edge midpoints to the full
-// one (its vertices lie on the full mesh when it is a meshoptimizer simplification, so they are
-// not sampled). Metres, as the meshes. The full mesh's grid and samples are built once; the
-// full mesh must outlive the meter.
+// simplified surface, and from the simplified mesh's vertices, centroids and edge midpoints
+// to the full one (a meshoptimizer simplification's vertices lie on the full mesh, but an
+// unbiased level's do not: render/lod.h). Metres, as the meshes. The full mesh's grid and
+// samples are built once; the full mesh must outlive the meter.
 class DeviationMeter {
  public:
   explicit DeviationMeter(const Mesh& full);
