@@ -6,7 +6,7 @@
 //   BM_TriangleSetup   fixed-point triangle setup alone (snap, cull, edge functions, 1/z plane)
 //                      over the LOD mesh of every sample, per triangle or batched (SIMD
 //                      classification first), grid {object, threads, samples, batched}
-//   BM_LodChainBuild   one mesh's LOD chain and culling clusters, grid {object}
+//   BM_LodChainBuild   one mesh's LOD chain and culling clusters, grid {object, unbiased}
 //   BM_Resample        sort + threshold table + N draws (the paper's resampler), grid {samples}
 //   build/mcpose_benchmarks --benchmark_filter=ScoreIteration
 #include <algorithm>
@@ -203,15 +203,20 @@ BENCHMARK(BM_TriangleSetup)
     ->MinTime(0.5);
 
 // Building one mesh's LOD chain and its clusters (once per mesh and process; PrepareMeshes runs
-// one mesh per raster core). Args: object index.
+// one mesh per raster core). Args: object index, unbiased vertices (1, the default) or
+// meshoptimizer's (0).
 void BM_LodChainBuild(benchmark::State& state) {
   const auto& [key, obj_id] = kObjects[state.range(0)];
   const Workload& w = GetWorkload(key, obj_id, 1);
+  const render::LodVertices vertices = state.range(1) ? render::LodVertices::kUnbiased : render::LodVertices::kKept;
   int levels = 0;
-  for (auto _ : state) levels = render::LodChain::Build(w.mesh).num_levels();
+  for (auto _ : state) levels = render::LodChain::Build(w.mesh, vertices).num_levels();
   state.SetLabel(std::to_string(obj_id) + ", " + std::to_string(levels) + " levels");
 }
-BENCHMARK(BM_LodChainBuild)->ArgNames({"object"})->DenseRange(0, 4)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_LodChainBuild)
+    ->ArgNames({"object", "unbiased"})
+    ->ArgsProduct({{0, 1, 2, 3, 4}, {0, 1}})
+    ->Unit(benchmark::kMillisecond);
 
 // Sort + table + one draw per sample, on weights of the shape the filter produces (a few
 // heavy samples over a long light tail). Args: samples, table size.

@@ -30,14 +30,28 @@ Mesh Compact(const Mesh& full, const std::vector<uint32_t>& indices) {
 }
 
 // Moves each vertex of `level` along its area-weighted normal by the area-weighted mean signed
-// offset of the full surface from the level triangles that use it (each full triangle counts
-// for the three vertices of its centroid's nearest level triangle), `rounds` times, each from
-// the moved level. A vertex no full centroid is nearest to, or without a normal, stays.
+// offset of the full surface from the level triangles that use it, `rounds` times, each from
+// the moved level. The full surface is sampled at about kUnbiasSamplesPerTriangle centroids
+// of full triangles per level triangle (every stride-th full triangle); each sample counts for
+// the three vertices of its nearest level triangle, found once, in the first round (later
+// rounds measure the sample's signed distance to the moved triangle). A vertex no sample is
+// nearest to, or without a normal, stays.
 void Unbias(const Mesh& full, int rounds, Mesh* level) {
   const size_t nv = level->vertices_m.size();
+  const size_t stride = std::max<size_t>(
+      1, (full.triangles.size() + LodChain::kUnbiasSamplesPerTriangle * level->triangles.size() - 1) /
+             (LodChain::kUnbiasSamplesPerTriangle * level->triangles.size()));
+  std::vector<SurfaceOffset> offsets = SurfaceOffsets(full, *level, stride);
   std::vector<Eigen::Vector3f> normals(nv);
   std::vector<double> sum(nv), weight(nv);
   for (int r = 0; r < rounds; ++r) {
+    if (r > 0) {
+      for (SurfaceOffset& o : offsets) {
+        const auto& t = level->triangles[o.nearest_triangle];
+        o.signed_m = SignedDistanceToTriangle(Centroid(full, o.full_triangle), level->vertices_m[t[0]],
+                                              level->vertices_m[t[1]], level->vertices_m[t[2]]);
+      }
+    }
     std::fill(normals.begin(), normals.end(), Eigen::Vector3f::Zero());
     for (const auto& t : level->triangles) {
       const Eigen::Vector3f& v0 = level->vertices_m[t[0]];
@@ -46,7 +60,7 @@ void Unbias(const Mesh& full, int rounds, Mesh* level) {
     }
     std::fill(sum.begin(), sum.end(), 0.0);
     std::fill(weight.begin(), weight.end(), 0.0);
-    for (const SurfaceOffset& o : SurfaceOffsets(full, *level))
+    for (const SurfaceOffset& o : offsets)
       for (uint32_t v : level->triangles[o.nearest_triangle]) {
         sum[v] += o.area_m2 * o.signed_m;
         weight[v] += o.area_m2;

@@ -68,6 +68,7 @@ std::vector<Vec3> SurfaceSamples(const Mesh& mesh, bool vertices, bool centroids
 
 TriangleGrid::TriangleGrid(const Mesh& mesh) : mesh_(mesh) {
   if (mesh.triangles.empty()) return;
+  tested_by_.assign(mesh.triangles.size(), 0u);
   Vec3 lo = Vec3::Constant(std::numeric_limits<float>::infinity()), hi = -lo;
   for (const auto& t : mesh.triangles)
     for (uint32_t v : t) lo = lo.cwiseMin(mesh.vertices_m[v]), hi = hi.cwiseMax(mesh.vertices_m[v]);
@@ -114,11 +115,14 @@ TriangleGrid::Nearest TriangleGrid::NearestTriangle(const Vec3& p) const { retur
 
 TriangleGrid::Nearest TriangleGrid::Search(const Vec3& p, float enough) const {
   if (mesh_.triangles.empty()) return {UINT32_MAX, std::numeric_limits<float>::infinity()};
-  // The cell of p's nearest point in the grid's box. Every triangle in a cell more than r cells
-  // away (in the max norm) lies at least r cells' widths from p: inside the box directly, and
-  // outside it because p is at least as far from any point of the box as its projection is.
+  // The cell of p's nearest point in the grid's box, then rings of cells around it (cells r
+  // away in the max norm), until the nearest triangle found is nearer than any cell outside.
   int c[3];
   for (int k = 0; k < 3; ++k) c[k] = std::clamp(static_cast<int>(std::floor((p[k] - lo_[k]) / cell_)), 0, n_[k] - 1);
+  if (++query_ == 0) {  // the counter wrapped: no triangle may look tested
+    std::fill(tested_by_.begin(), tested_by_.end(), 0u);
+    query_ = 1;
+  }
   const float enough2 = enough * enough;
   float best2 = std::numeric_limits<float>::infinity();
   uint32_t best = UINT32_MAX;
@@ -130,6 +134,8 @@ TriangleGrid::Nearest TriangleGrid::Search(const Vec3& p, float enough) const {
           if (std::max({std::abs(x - c[0]), std::abs(y - c[1]), std::abs(z - c[2])}) != r) continue;
           const size_t cell = (static_cast<size_t>(z) * n_[1] + y) * n_[0] + x;
           for (uint32_t j = start_[cell]; j < start_[cell + 1]; ++j) {
+            if (tested_by_[items_[j]] == query_) continue;
+            tested_by_[items_[j]] = query_;
             const auto& t = mesh_.triangles[items_[j]];
             const float d2 =
                 PointTriangleDistanceSquared(p, mesh_.vertices_m[t[0]], mesh_.vertices_m[t[1]], mesh_.vertices_m[t[2]]);
@@ -137,8 +143,16 @@ TriangleGrid::Nearest TriangleGrid::Search(const Vec3& p, float enough) const {
           }
           if (best2 <= enough2) return {best, std::sqrt(best2)};
         }
-    const float bound = static_cast<float>(r) * cell_;
-    if (best2 <= bound * bound) break;
+    // Every triangle not yet tested lies only in cells outside the block of rings 0..r, so at
+    // least as far from p as the nearest face of that block which is not the grid's own border
+    // (no cells lie beyond those).
+    float bound = std::numeric_limits<float>::infinity();
+    for (int k = 0; k < 3; ++k) {
+      if (c[k] - r > 0) bound = std::min(bound, p[k] - (lo_[k] + static_cast<float>(c[k] - r) * cell_));
+      if (c[k] + r < n_[k] - 1) bound = std::min(bound, lo_[k] + static_cast<float>(c[k] + r + 1) * cell_ - p[k]);
+    }
+    bound *= 1.f - 1e-5f;  // float rounding of the faces' positions
+    if (bound >= 0 && best2 <= bound * bound) break;
   }
   return {best, std::sqrt(best2)};
 }
@@ -162,20 +176,32 @@ float MaxDistanceToSurfaceReference(std::span<const Vec3> points, const Mesh& me
   return worst;
 }
 
-std::vector<SurfaceOffset> SurfaceOffsets(const Mesh& full, const Mesh& simplified) {
+float SignedDistanceToTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const float d = std::sqrt(PointTriangleDistanceSquared(p, a, b, c));
+  return (p - a).dot((b - a).cross(c - a)) >= 0 ? d : -d;
+}
+
+Vec3 Centroid(const Mesh& mesh, uint32_t t) {
+  const auto& v = mesh.triangles[t];
+  return (mesh.vertices_m[v[0]] + mesh.vertices_m[v[1]] + mesh.vertices_m[v[2]]) / 3.f;
+}
+
+std::vector<SurfaceOffset> SurfaceOffsets(const Mesh& full, const Mesh& simplified, size_t stride) {
   std::vector<SurfaceOffset> out;
-  out.reserve(full.triangles.size());
+  if (simplified.triangles.empty()) return out;  // nothing to be near to
+  stride = std::max<size_t>(stride, 1);
+  out.reserve(full.triangles.size() / stride + 1);
   const TriangleGrid grid(simplified);
-  for (const auto& t : full.triangles) {
+  for (size_t i = 0; i < full.triangles.size(); i += stride) {
+    const auto& t = full.triangles[i];
     const Vec3 &a = full.vertices_m[t[0]], &b = full.vertices_m[t[1]], &c = full.vertices_m[t[2]];
-    const Vec3 centroid = (a + b + c) / 3.f;
+    const Vec3 centroid = Centroid(full, static_cast<uint32_t>(i));
     const TriangleGrid::Nearest hit = grid.NearestTriangle(centroid);
-    if (hit.triangle == UINT32_MAX) continue;  // nothing to be near to
     const auto& s = simplified.triangles[hit.triangle];
     const Vec3& s0 = simplified.vertices_m[s[0]];
-    const Vec3 normal = (simplified.vertices_m[s[1]] - s0).cross(simplified.vertices_m[s[2]] - s0);
-    const bool in_front = (centroid - s0).dot(normal) >= 0;
-    out.push_back({hit.triangle, in_front ? hit.distance : -hit.distance, 0.5f * (b - a).cross(c - a).norm()});
+    const bool in_front = (centroid - s0).dot((simplified.vertices_m[s[1]] - s0).cross(simplified.vertices_m[s[2]] - s0)) >= 0;
+    out.push_back({static_cast<uint32_t>(i), hit.triangle, in_front ? hit.distance : -hit.distance,
+                   0.5f * (b - a).cross(c - a).norm()});
   }
   return out;
 }

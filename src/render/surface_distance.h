@@ -24,7 +24,8 @@ float PointTriangleDistanceSquared(const Eigen::Vector3f& p, const Eigen::Vector
 std::vector<Eigen::Vector3f> SurfaceSamples(const Mesh& mesh, bool vertices, bool centroids_and_edge_midpoints);
 
 // A uniform grid over a mesh's triangles (each listed in every cell its bounding box meets),
-// for nearest-surface queries. The mesh must outlive the grid.
+// for nearest-surface queries. The mesh must outlive the grid. Queries keep scratch state in
+// the grid: one grid is queried by one thread at a time.
 class TriangleGrid {
  public:
   explicit TriangleGrid(const Mesh& mesh);
@@ -51,6 +52,10 @@ class TriangleGrid {
   int n_[3] = {0, 0, 0};
   std::vector<uint32_t> start_;  // cell c's triangles are items_[start_[c] .. start_[c + 1])
   std::vector<uint32_t> items_;
+  // The query that last tested each triangle (a triangle is listed in every cell it meets; a
+  // query tests it once). Queries write it: one TriangleGrid serves one thread.
+  mutable std::vector<uint32_t> tested_by_;
+  mutable uint32_t query_ = 0;
 };
 
 // max over `points` of the distance to the surface of `mesh`, through a TriangleGrid.
@@ -58,16 +63,25 @@ float MaxDistanceToSurface(std::span<const Eigen::Vector3f> points, const Mesh& 
 // The reference: every point against every triangle.
 float MaxDistanceToSurfaceReference(std::span<const Eigen::Vector3f> points, const Mesh& mesh);
 
-// Where a full surface lies against a simplified one, triangle by triangle of the full mesh:
-// its centroid's nearest simplified triangle, the distance to it, signed positive where the
-// centroid lies in front of that triangle's face (outside a closed mesh whose triangles face
-// outward), and the full triangle's area, the centroid's weight.
+// The distance from p to the triangle (a, b, c), signed positive where p lies in front of its
+// face (on the side its counter-clockwise normal points to: outside a closed mesh whose
+// triangles face outward).
+float SignedDistanceToTriangle(const Eigen::Vector3f& p, const Eigen::Vector3f& a, const Eigen::Vector3f& b,
+                               const Eigen::Vector3f& c);
+
+// Where a full surface lies against a simplified one, sampled at the centroids of the full
+// mesh's triangles 0, stride, 2 stride, ...: each centroid's nearest simplified triangle, the
+// signed distance to it (SignedDistanceToTriangle), and the full triangle's area, the
+// centroid's weight.
 struct SurfaceOffset {
+  uint32_t full_triangle;
   uint32_t nearest_triangle;
   float signed_m;
   float area_m2;
 };
-std::vector<SurfaceOffset> SurfaceOffsets(const Mesh& full, const Mesh& simplified);
+std::vector<SurfaceOffset> SurfaceOffsets(const Mesh& full, const Mesh& simplified, size_t stride = 1);
+// The centroid of triangle t of `mesh`.
+Eigen::Vector3f Centroid(const Mesh& mesh, uint32_t t);
 
 // Area-weighted means of the offsets' signed distance (the simplified surface's bias: > 0
 // where it lies inside the full one on average) and of their absolute value, metres.

@@ -107,6 +107,17 @@ TEST(SurfaceDistance, SurfaceOffsetsAreSignedByTheNearestFace) {
   EXPECT_NEAR(mixed.signed_m, -0.0012, 1e-8);
   EXPECT_NEAR(mixed.abs_m, 0.002, 1e-8);
   EXPECT_TRUE(SurfaceOffsets(upper, Mesh{}).empty());
+  // Every second full triangle: triangle 0 of the lower square only.
+  const std::vector<SurfaceOffset> strided = SurfaceOffsets(lower, upper, 2);
+  ASSERT_EQ(strided.size(), 1u);
+  EXPECT_EQ(strided[0].full_triangle, 0u);
+  EXPECT_FLOAT_EQ(strided[0].signed_m, -0.002f);
+  // The signed distance alone: in front of the face, behind it, and beyond an edge.
+  const Vec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
+  EXPECT_FLOAT_EQ(SignedDistanceToTriangle(Vec3(0.25f, 0.25f, 2), a, b, c), 2.f);
+  EXPECT_FLOAT_EQ(SignedDistanceToTriangle(Vec3(0.25f, 0.25f, -2), a, b, c), -2.f);
+  EXPECT_FLOAT_EQ(SignedDistanceToTriangle(Vec3(0.5f, -3, -4), a, b, c), -5.f);
+  EXPECT_FLOAT_EQ(SignedDistanceToTriangle(Vec3(0.25f, 0.25f, 2), a, c, b), -2.f);  // clockwise: faces -z
 }
 
 // A square of n x n quads in z = 0 whose centre vertex is raised by h, and the same square as
@@ -169,13 +180,14 @@ TEST(SurfaceDistance, UnbiasedLodLevelsLieOnTheFullSurfaceOnAverage) {
     EXPECT_FLOAT_EQ(unbiased.level(l).error_m, std::max({DeviationMeter(m).Measure(u), unbiased.level(l).meshopt_error_m,
                                                          unbiased.level(l - 1).error_m}));
     // The levels that stray 0.1 mm or more on average (on this 10 cm blob, levels 3-6 of 515
-    // to 89 triangles: 0.3-3.8 mm inside before, under 0.05 mm after).
+    // to 89 triangles: 0.3-3.7 mm inside before, within 0.05 mm after; the mean distance about
+    // halved).
     const OffsetMeans before = MeanOffsets(SurfaceOffsets(m, k)), after = MeanOffsets(SurfaceOffsets(m, u));
     if (before.abs_m < 1e-4) continue;
     ++coarse;
     EXPECT_GT(before.signed_m, 0.5 * before.abs_m) << "level " << l;  // inside on average
     EXPECT_LT(std::fabs(after.signed_m), 0.05 * before.signed_m) << "level " << l;
-    EXPECT_LT(after.abs_m, 0.7 * before.abs_m) << "level " << l;
+    EXPECT_LT(after.abs_m, 0.6 * before.abs_m) << "level " << l;
   }
   EXPECT_GE(coarse, 3);
 }
