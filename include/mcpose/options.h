@@ -95,8 +95,9 @@ struct EstimatorOptions {
   // Where the LOD levels' vertices lie (render/lod.h): true moves them so that the full surface
   // lies on each level on average (LodVertices::kUnbiased); false keeps meshoptimizer's, a
   // subset of the full mesh's vertices, whose levels lie inside the full surface wherever it
-  // bulges (0.19 mm on average for the cracker box's 310-triangle level). The levels' measured
-  // deviations, and so the level each box draws, follow. No effect with lod_error_px = 0.
+  // bulges (0.19 mm on average for the cracker box's 310-triangle level). Either way a box
+  // draws the same level (chosen by the deviation of meshoptimizer's level). No effect with
+  // lod_error_px = 0.
   bool lod_unbiased = true;
   // Cluster culling (fixed and simd engines, with LOD): drop whole meshoptimizer clusters of up
   // to 16 triangles that lie outside the box or face away (when back faces are culled), before

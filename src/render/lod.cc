@@ -102,11 +102,13 @@ LodChain LodChain::Build(const Mesh& mesh, LodVertices vertices) {
     if (n >= 3 && n / 3 < prev) {
       std::vector<uint32_t> kept(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(n));
       Mesh level = Compact(mesh, kept);
-      if (vertices == LodVertices::kUnbiased) Unbias(mesh, kUnbiasRounds, &level);
-      // The measured deviation (or the reported error if larger), never below the previous
-      // level's: errors must grow along the chain for Select.
+      // The measured deviation of meshoptimizer's level (or the reported error if larger),
+      // never below the previous level's: errors must grow along the chain for Select. It is
+      // measured before unbiasing, so the vertex placement does not change which level a box
+      // draws.
       const float reported = result_error * scale;
       const float err = std::max({meter.Measure(level), reported, chain.levels_.back().error_m});
+      if (vertices == LodVertices::kUnbiased) Unbias(mesh, kUnbiasRounds, &level);
       ClusterSet clusters = ClusterSet::Build(level);
       chain.levels_.push_back(LodLevel{std::move(level), err, reported, std::move(clusters)});
     }

@@ -17,7 +17,9 @@ struct LodLevel {
   Mesh mesh;             // vertices compacted to those the triangles use
   // The level's deviation from the full mesh, metres: the larger of the measured one
   // (DeviationMeter, render/surface_distance.h) and meshoptimizer's reported error, and never
-  // below the previous level's. Level selection compares this with the pixel budget.
+  // below the previous level's. Level selection compares this with the pixel budget. Measured
+  // on meshoptimizer's vertices (LodVertices::kKept) in either placement, so both placements
+  // draw the same levels.
   float error_m = 0;
   float meshopt_error_m = 0;  // meshoptimizer's reported (quadric) error alone, metres
   ClusterSet clusters;   // the same triangles in culling clusters (render/clusters.h)
