@@ -40,6 +40,10 @@ for ((s = FIRST; s <= LAST; s++)); do
   all=$(./build/mcpose eval --dataset "$DATA/ycbv" --results "$csv" --json "${csv%.csv}.eval.json" | awk '$1 == "ALL"')
   add_s=$(echo "$all" | awk '{print $14}') adds=$(echo "$all" | awk '{print $10}')
   [ -n "$add_s" ] || { echo "accuracy_seeds: no ALL row in the eval of $csv" >&2; exit 1; }
+  # summary.tsv and instances.tsv are rewritten whole: one run at a time holds the lock (runs
+  # of several tags at once lost and cut lines without it).
+  exec 9> out/seeds/.lock
+  flock 9
   subset=$(/usr/bin/python3 scripts/accuracy_instances.py record "$TAG" "$s" "${csv%.csv}.eval.json" "$DETECTIONS")
   if [ "$DETECTIONS" != out/detections.json ]; then
     add_s=$(echo "$subset" | awk '{print $1}') adds=$(echo "$subset" | awk '{print $2}')
@@ -47,6 +51,7 @@ for ((s = FIRST; s <= LAST; s++)); do
   awk -F'\t' -v t="$TAG" -v s="$s" '!($1 == t && $2 == s)' "$SUMMARY" > "$SUMMARY.tmp"
   printf '%s\t%s\t%s\t%s\t%s\t%s\n' "$TAG" "$s" "$add_s" "$adds" "$seconds" "$*" >> "$SUMMARY.tmp"
   mv "$SUMMARY.tmp" "$SUMMARY"
+  flock -u 9
   printf '%s seed %d: ADD(-S) < 4 cm %s %%, ADD-S < 4 cm %s %% (%d s)\n' "$TAG" "$s" "$add_s" "$adds" "$seconds"
 done
 awk -F'\t' -v t="$TAG" '$1 == t { n++; x += $3; xx += $3 * $3 }
