@@ -176,9 +176,18 @@ float MaxDistanceToSurfaceReference(std::span<const Vec3> points, const Mesh& me
   return worst;
 }
 
+namespace {
+
+// Whether p lies in front of the face (a, b, c) (or on its plane).
+bool InFront(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  return (p - a).dot((b - a).cross(c - a)) >= 0;
+}
+
+}  // namespace
+
 float SignedDistanceToTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
   const float d = std::sqrt(PointTriangleDistanceSquared(p, a, b, c));
-  return (p - a).dot((b - a).cross(c - a)) >= 0 ? d : -d;
+  return InFront(p, a, b, c) ? d : -d;
 }
 
 Vec3 Centroid(const Mesh& mesh, uint32_t t) {
@@ -198,8 +207,8 @@ std::vector<SurfaceOffset> SurfaceOffsets(const Mesh& full, const Mesh& simplifi
     const Vec3 centroid = Centroid(full, static_cast<uint32_t>(i));
     const TriangleGrid::Nearest hit = grid.NearestTriangle(centroid);
     const auto& s = simplified.triangles[hit.triangle];
-    const Vec3& s0 = simplified.vertices_m[s[0]];
-    const bool in_front = (centroid - s0).dot((simplified.vertices_m[s[1]] - s0).cross(simplified.vertices_m[s[2]] - s0)) >= 0;
+    const bool in_front = InFront(centroid, simplified.vertices_m[s[0]], simplified.vertices_m[s[1]],
+                                  simplified.vertices_m[s[2]]);
     out.push_back({static_cast<uint32_t>(i), hit.triangle, in_front ? hit.distance : -hit.distance,
                    0.5f * (b - a).cross(c - a).norm()});
   }
