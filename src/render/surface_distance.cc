@@ -55,9 +55,10 @@ std::vector<Vec3> SurfaceSamples(const Mesh& mesh, bool vertices, bool centroids
       if (used[v]) out.push_back(mesh.vertices_m[v]);
   }
   if (centroids_and_edge_midpoints) {
-    for (const auto& t : mesh.triangles) {
+    for (uint32_t i = 0; i < mesh.triangles.size(); ++i) {
+      const auto& t = mesh.triangles[i];
       const Vec3 &a = mesh.vertices_m[t[0]], &b = mesh.vertices_m[t[1]], &c = mesh.vertices_m[t[2]];
-      out.push_back((a + b + c) / 3.f);
+      out.push_back(Centroid(mesh, i));
       out.push_back(0.5f * (a + b));
       out.push_back(0.5f * (b + c));
       out.push_back(0.5f * (c + a));
