@@ -27,6 +27,10 @@ Usage:
       difference and its standard error (an instance with one seed counts the largest binomial
       variance, 0.25); then the total in instances and in points of the main job's 108, with a
       normal 90 % interval.
+      A tag may pool several, joined by '+' (e.g. reference+sugar.ref: the same options run on
+      the whole job and on one class's boxes): each instance's seeds are pooled, and a seed
+      that two of them both ran counts once (it must have the same outcome in both, else
+      the tags are not the same options and compare stops).
 """
 import csv
 import json
@@ -82,19 +86,33 @@ def record(tag, seed, eval_json, detections_json, tsv):
 
 
 def load(tsv):
-    """{tag: {(scene, image, object): [successes over seeds]}}, {object: name}"""
+    """{tag: {(scene, image, object): {seed: success}}}, {object: name}"""
     if not os.path.exists(tsv):
         fail(f"{tsv} is missing (scripts/accuracy_seeds.sh writes it)")
-    out, names = defaultdict(lambda: defaultdict(list)), {}
+    out, names = defaultdict(lambda: defaultdict(dict)), {}
     with open(tsv) as f:
         for line, r in enumerate(csv.reader(f, delimiter="\t"), 1):
             try:
-                key, success = (int(r[2]), int(r[3]), int(r[4])), int(r[7])
+                seed, key, success = int(r[1]), (int(r[2]), int(r[3]), int(r[4])), int(r[7])
             except (IndexError, ValueError):
                 fail(f"{tsv}:{line}: not a record (tag, seed, scene, image, object, name, ADD(-S), success)")
-            out[r[0]][key].append(success)
+            out[r[0]][key][seed] = success
             names[key[2]] = r[5]
     return out, names
+
+
+def pooled(data, tags, tsv):
+    """{(scene, image, object): [successes over seeds]} of the '+'-joined tags, each seed once."""
+    seeds = defaultdict(dict)
+    for t in tags.split("+"):
+        if t not in data:
+            fail(f"{tsv} has no tag {t}")
+        for key, outcomes in data[t].items():
+            for seed, success in outcomes.items():
+                if seeds[key].setdefault(seed, success) != success:
+                    fail(f"{tags}: seed {seed} of instance {key} differs between the tags: "
+                         "they are not the same options")
+    return {key: list(outcomes.values()) for key, outcomes in seeds.items()}
 
 
 def rate(outcomes):
@@ -106,10 +124,8 @@ def rate(outcomes):
 
 
 def compare(tag_a, tag_b, tsv, main_job_instances=108):
-    data, names = load(tsv)
-    for t in (tag_a, tag_b):
-        if t not in data:
-            fail(f"{tsv} has no tag {t}")
+    loaded, names = load(tsv)
+    data = {t: pooled(loaded, t, tsv) for t in (tag_a, tag_b)}
     common = sorted(set(data[tag_a]) & set(data[tag_b]))
     if not common:
         fail(f"{tag_a} and {tag_b} share no instance")
