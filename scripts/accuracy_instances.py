@@ -4,8 +4,8 @@
 The seeds of scripts/accuracy_seeds.sh are whole runs; their ADD(-S) < 4 cm shares (summary.tsv)
 say how much two engine options differ, not where. This keeps one line per seed and instance in
 out/seeds/instances.tsv (tag, seed, scene, image, object id and name, ADD(-S) in metres,
-success: ADD(-S) < 4 cm) and
-compares two tags object by object.
+success: ADD(-S) < 4 cm, and ADD-S < 4 cm, a column that lines written before 2026-12-03's
+twelfth session lack) and compares two tags object by object.
 
 Each (image, class) draws from its own random streams (Estimator::Estimate's stream_id), so an
 instance's result depends on the seed and the options only, not on the other boxes of the run:
@@ -22,7 +22,7 @@ Usage:
       Appends the instances of EVAL_JSON (`mcpose eval --json`) whose (scene, image, class) has
       a box in DETECTIONS_JSON, replacing the tag's earlier lines for that seed; prints the
       subset's ADD(-S) < 4 cm and ADD-S < 4 cm in % of those instances, and their number.
-  accuracy_instances.py compare TAG_A TAG_B [instances.tsv]
+  accuracy_instances.py compare [--adds] TAG_A TAG_B [instances.tsv]
       Per object, over the instances both tags have: seeds, expected successes of A and B, the
       difference and its standard error (an instance with one seed counts the largest binomial
       variance, 0.25); then the total in instances and in points of the main job's 108, with a
@@ -31,6 +31,9 @@ Usage:
       the whole job and on one class's boxes): each instance's seeds are pooled, and a seed
       that two of them both ran counts once (it must have the same outcome in both, else
       the tags are not the same options and compare stops).
+      --adds compares ADD-S < 4 cm instead (lines without that column are left out): the
+      pose up to the object's symmetries and its depth-identical twins, e.g. the sugar box
+      turned half a turn, whose ADD is 10-12 cm.
 """
 import csv
 import json
@@ -79,23 +82,28 @@ def record(tag, seed, eval_json, detections_json, tsv):
     with open(tsv + ".tmp", "w", newline="") as f:
         w = csv.writer(f, delimiter="\t", lineterminator="\n")
         w.writerows(kept)
-        w.writerows([r[:8] for r in rows])
+        w.writerows(rows)
     os.replace(tsv + ".tmp", tsv)
     n = len(rows)
     print(f"{100 * sum(r[7] for r in rows) / n:.1f} {100 * sum(r[8] for r in rows) / n:.1f} {n}")
 
 
-def load(tsv):
-    """{tag: {(scene, image, object): {seed: success}}}, {object: name}"""
+def load(tsv, column=7):
+    """{tag: {(scene, image, object): {seed: success}}}, {object: name}; success in `column`
+    (7: ADD(-S) < 4 cm, 8: ADD-S < 4 cm; lines without it are left out)."""
     if not os.path.exists(tsv):
         fail(f"{tsv} is missing (scripts/accuracy_seeds.sh writes it)")
     out, names = defaultdict(lambda: defaultdict(dict)), {}
     with open(tsv) as f:
         for line, r in enumerate(csv.reader(f, delimiter="\t"), 1):
+            if column == 8 and len(r) == 8:
+                out.setdefault(r[0], defaultdict(dict))  # written before the ADD-S column
+                continue
             try:
-                seed, key, success = int(r[1]), (int(r[2]), int(r[3]), int(r[4])), int(r[7])
+                seed, key, success = int(r[1]), (int(r[2]), int(r[3]), int(r[4])), int(r[column])
             except (IndexError, ValueError):
-                fail(f"{tsv}:{line}: not a record (tag, seed, scene, image, object, name, ADD(-S), success)")
+                fail(f"{tsv}:{line}: not a record (tag, seed, scene, image, object, name, ADD(-S), "
+                     "ADD(-S) success[, ADD-S success])")
             out[r[0]][key][seed] = success
             names[key[2]] = r[5]
     return out, names
@@ -112,6 +120,8 @@ def pooled(data, tags, tsv):
                 if seeds[key].setdefault(seed, success) != success:
                     fail(f"{tags}: seed {seed} of instance {key} differs between the tags: "
                          "they are not the same options")
+    if not seeds:
+        fail(f"{tsv}: {tags} has no line with the ADD-S column (written before 2026-12-03)")
     return {key: list(outcomes.values()) for key, outcomes in seeds.items()}
 
 
@@ -123,8 +133,8 @@ def rate(outcomes):
     return p, var
 
 
-def compare(tag_a, tag_b, tsv, main_job_instances=108):
-    loaded, names = load(tsv)
+def compare(tag_a, tag_b, tsv, adds=False, main_job_instances=108):
+    loaded, names = load(tsv, 8 if adds else 7)
     data = {t: pooled(loaded, t, tsv) for t in (tag_a, tag_b)}
     common = sorted(set(data[tag_a]) & set(data[tag_b]))
     if not common:
@@ -132,6 +142,7 @@ def compare(tag_a, tag_b, tsv, main_job_instances=108):
     per_object = defaultdict(list)
     for key in common:
         per_object[key[2]].append(key)
+    print(f"Expected successes, {'ADD-S' if adds else 'ADD(-S)'} < 4 cm")
     print(f"{'object':24} inst  seeds A  seeds B | {tag_a[:12]:>12} {tag_b[:12]:>12} | A - B (SE)")
     total_d, total_var = 0.0, 0.0
     for obj in sorted(per_object):
@@ -157,7 +168,12 @@ def main(argv):
     if len(argv) >= 6 and argv[1] == "record":
         record(argv[2], int(argv[3]), argv[4], argv[5], argv[6] if len(argv) > 6 else DEFAULT_TSV)
     elif len(argv) >= 4 and argv[1] == "compare":
-        compare(argv[2], argv[3], argv[4] if len(argv) > 4 else DEFAULT_TSV)
+        adds = argv[2] == "--adds"
+        args = argv[3:] if adds else argv[2:]
+        if len(args) < 2:
+            print(__doc__, file=sys.stderr)
+            sys.exit(2)
+        compare(args[0], args[1], args[2] if len(args) > 2 else DEFAULT_TSV, adds)
     else:
         print(__doc__, file=sys.stderr)
         sys.exit(2)

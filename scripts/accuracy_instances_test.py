@@ -1,5 +1,6 @@
 #!/usr/bin/python3
 """Tests of accuracy_instances.py compare on small hand-made instances.tsv files (ctest runs it)."""
+import json
 import os
 import subprocess
 import sys
@@ -9,19 +10,42 @@ import unittest
 SCRIPT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "accuracy_instances.py")
 
 
-def rows(tag, seed, outcomes):
-    """instances.tsv lines: one instance per (image, success) of object 3 in scene 1."""
-    return [f"{tag}\t{seed}\t1\t{image}\t3\t004_sugar_box\t{0.01 if ok else 0.1:.6f}\t{ok}\t1"
+def rows(tag, seed, outcomes, adds=None):
+    """instances.tsv lines: one instance per (image, ADD(-S) success) of object 3 in scene 1;
+    the ADD-S success `adds` (the same for all), or no such column where None."""
+    last = "" if adds is None else f"\t{adds}"
+    return [f"{tag}\t{seed}\t1\t{image}\t3\t004_sugar_box\t{0.01 if ok else 0.1:.6f}\t{ok}{last}"
             for image, ok in outcomes]
 
 
 class CompareTest(unittest.TestCase):
-    def compare(self, lines, a, b):
+    def compare(self, lines, a, b, *flags):
         with tempfile.TemporaryDirectory() as d:
             tsv = os.path.join(d, "instances.tsv")
             with open(tsv, "w") as f:
                 f.write("\n".join(lines) + "\n")
-            return subprocess.run([sys.executable, SCRIPT, "compare", a, b, tsv], capture_output=True, text=True)
+            return subprocess.run([sys.executable, SCRIPT, "compare", *flags, a, b, tsv], capture_output=True,
+                                  text=True)
+
+    def test_adds_compares_the_adds_column_and_leaves_out_lines_without_it(self):
+        lines = (rows("A", 0, [(1, 0), (2, 0)], adds=1) + rows("A", 1, [(1, 0), (2, 0)], adds=0) +
+                 rows("A", 2, [(1, 1), (2, 1)]) +  # no ADD-S column: left out
+                 rows("B", 0, [(1, 0), (2, 1)], adds=1))
+        r = self.compare(lines, "A", "B", "--adds")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("ADD-S < 4 cm", r.stdout)
+        line = next(l for l in r.stdout.splitlines() if l.startswith("004_sugar_box"))
+        # ADD-S: A half of seeds 0 and 1 for both images (1.00), B always (2.00).
+        self.assertIn("2      2-2      1-1", line)
+        self.assertIn("1.00         2.00 | -1.00", line)
+        r = self.compare(lines, "A", "B")  # ADD(-S): A's three seeds, 1/3 each; B 1 of 2
+        line = next(l for l in r.stdout.splitlines() if l.startswith("004_sugar_box"))
+        self.assertIn("0.67         1.00 | -0.33", line)
+
+    def test_adds_names_a_tag_without_the_column(self):
+        r = self.compare(rows("A", 0, [(1, 1)], adds=1) + rows("B", 0, [(1, 1)]), "A", "B", "--adds")
+        self.assertNotEqual(r.returncode, 0)
+        self.assertIn("B has no line with the ADD-S column", r.stderr)
 
     def test_pooled_tags_count_a_shared_seed_once(self):
         lines = (rows("A", 0, [(1, 1), (2, 0)]) + rows("A", 1, [(1, 1), (2, 1)]) +
@@ -44,9 +68,34 @@ class CompareTest(unittest.TestCase):
         self.assertIn("differs between the tags", r.stderr)
 
     def test_an_unknown_tag_is_named(self):
-        r = self.compare(rows("A", 0, [(1, 1)]), "A", "A+C")
+        r = self.compare(rows("A", 0, [(1, 1)], adds=1), "A", "A+C")
         self.assertNotEqual(r.returncode, 0)
         self.assertIn("has no tag C", r.stderr)
+
+
+class RecordTest(unittest.TestCase):
+    def test_record_keeps_the_boxed_instances_with_both_successes(self):
+        evaluation = {"per_object": [{"obj_id": 3, "name": "004_sugar_box"}],
+                      "instances": [
+                          # turned half a turn: ADD 11 cm, ADD-S 3 mm
+                          {"scene_id": 1, "im_id": 1, "obj_id": 3, "add_or_adds_m": 0.11, "adds_m": 0.003},
+                          {"scene_id": 1, "im_id": 2, "obj_id": 3, "add_or_adds_m": 0.01, "adds_m": 0.005},
+                          {"scene_id": 1, "im_id": 3, "obj_id": 3, "add_or_adds_m": None, "adds_m": None},
+                          {"scene_id": 1, "im_id": 4, "obj_id": 3, "add_or_adds_m": 0.0, "adds_m": 0.0}]}
+        detections = [{"scene_id": 1, "image_id": i, "category_id": 3} for i in (1, 2, 3)]  # not image 4
+        with tempfile.TemporaryDirectory() as d:
+            paths = [os.path.join(d, n) for n in ("eval.json", "dets.json", "instances.tsv")]
+            for path, obj in zip(paths, (evaluation, detections)):
+                with open(path, "w") as f:
+                    json.dump(obj, f)
+            r = subprocess.run([sys.executable, SCRIPT, "record", "T", "7", *paths], capture_output=True, text=True)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertEqual(r.stdout.split(), ["33.3", "66.7", "3"])  # ADD(-S), ADD-S < 4 cm, instances
+            with open(paths[2]) as f:
+                lines = [l.rstrip("\n").split("\t") for l in f]
+        self.assertEqual(lines, [["T", "7", "1", "1", "3", "004_sugar_box", "0.110000", "0", "1"],
+                                 ["T", "7", "1", "2", "3", "004_sugar_box", "0.010000", "1", "1"],
+                                 ["T", "7", "1", "3", "3", "004_sugar_box", "", "0", "0"]])
 
 
 if __name__ == "__main__":
