@@ -34,6 +34,11 @@ Usage:
       --adds compares ADD-S < 4 cm instead (lines without that column are left out): the
       pose up to the object's symmetries and its depth-identical twins, e.g. the sugar box
       turned half a turn, whose ADD is 10-12 cm.
+  accuracy_instances.py whole TAGS [instances.tsv]
+      The seeds that the '+'-joined TAGS ran on every instance any of them has (e.g. one
+      class's boxes per tag, all classes together): whole runs assembled from subset runs,
+      with the poses of a whole run. Prints per such seed: seed, ADD(-S) < 4 cm and
+      ADD-S < 4 cm in % of those instances (ADD-S: "-" where a line lacks it), and their number.
 """
 import csv
 import json
@@ -164,6 +169,28 @@ def compare(tag_a, tag_b, tsv, adds=False, main_job_instances=108):
           f"{100 * (total_d + 1.6449 * se) / main_job_instances:+.2f}])")
 
 
+def whole(tags, tsv):
+    loaded, loaded_adds = load(tsv, 7)[0], load(tsv, 8)[0]
+    pooled(loaded, tags, tsv)  # the tags exist, and agree on the seeds they share
+
+    def by_seed(data):
+        out = defaultdict(dict)
+        for t in tags.split("+"):
+            for key, outcomes in data.get(t, {}).items():
+                for seed, success in outcomes.items():
+                    out[seed][key] = success
+        return out
+
+    add_s, adds = by_seed(loaded), by_seed(loaded_adds)
+    instances = set().union(*add_s.values())
+    n = len(instances)
+    for seed in sorted(add_s):
+        if set(add_s[seed]) != instances:
+            continue
+        share = f"{100 * sum(adds[seed].values()) / n:.1f}" if set(adds[seed]) == instances else "-"
+        print(f"{seed}\t{100 * sum(add_s[seed].values()) / n:.1f}\t{share}\t{n}")
+
+
 def main(argv):
     if len(argv) >= 6 and argv[1] == "record":
         record(argv[2], int(argv[3]), argv[4], argv[5], argv[6] if len(argv) > 6 else DEFAULT_TSV)
@@ -174,6 +201,8 @@ def main(argv):
             print(__doc__, file=sys.stderr)
             sys.exit(2)
         compare(args[0], args[1], args[2] if len(args) > 2 else DEFAULT_TSV, adds)
+    elif len(argv) >= 3 and argv[1] == "whole":
+        whole(argv[2], argv[3] if len(argv) > 3 else DEFAULT_TSV)
     else:
         print(__doc__, file=sys.stderr)
         sys.exit(2)

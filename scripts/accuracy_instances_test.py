@@ -72,6 +72,20 @@ class CompareTest(unittest.TestCase):
         self.assertNotEqual(r.returncode, 0)
         self.assertIn("has no tag C", r.stderr)
 
+    def test_whole_assembles_the_seeds_that_cover_every_instance(self):
+        def other(tag, seed, ok, adds):  # one instance of another class
+            return [f"{tag}\t{seed}\t1\t1\t5\t006_mustard_bottle\t0.01\t{ok}\t{adds}"]
+        lines = (rows("S", 0, [(1, 1), (2, 0)], adds=1) + rows("S", 1, [(1, 1), (2, 1)], adds=1) +
+                 other("M", 0, 0, 1) + other("M", 2, 1, 1))
+        with tempfile.TemporaryDirectory() as d:
+            tsv = os.path.join(d, "instances.tsv")
+            with open(tsv, "w") as f:
+                f.write("\n".join(lines) + "\n")
+            r = subprocess.run([sys.executable, SCRIPT, "whole", "S+M", tsv], capture_output=True, text=True)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        # Only seed 0 ran all three instances: 1 of 3 ADD(-S), 3 of 3 ADD-S.
+        self.assertEqual(r.stdout, "0\t33.3\t100.0\t3\n")
+
 
 class RecordTest(unittest.TestCase):
     def test_record_keeps_the_boxed_instances_with_both_successes(self):
