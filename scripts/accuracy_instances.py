@@ -31,9 +31,10 @@ Usage:
       the whole job and on one class's boxes): each instance's seeds are pooled, and a seed
       that two of them both ran counts once (it must have the same outcome in both, else
       the tags are not the same options and compare stops).
-      --adds compares ADD-S < 4 cm instead (lines without that column are left out): the
-      pose up to the object's symmetries and its depth-identical twins, e.g. the sugar box
-      turned half a turn, whose ADD is 10-12 cm.
+      --adds compares ADD-S < 4 cm instead (lines without that column are left out). ADD-S
+      (the mean distance to the nearest model point) scores the fit of the shape, not which
+      of its twins was chosen: the sugar box turned half a turn has ADD 10-12 cm and ADD-S
+      a few mm.
   accuracy_instances.py whole TAGS [instances.tsv]
       The seeds that the '+'-joined TAGS ran on every instance any of them has (e.g. one
       class's boxes per tag, all classes together): whole runs assembled from subset runs,
