@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Tests of accuracy_instances.py compare on small hand-made instances.tsv files (ctest runs it)."""
+"""Tests of accuracy_instances.py (record, compare, whole) on small hand-made files; ctest runs it."""
 import json
 import os
 import subprocess
