@@ -116,7 +116,7 @@ def load(tsv, column=7):
 
 
 def pooled(data, tags, tsv):
-    """{(scene, image, object): [successes over seeds]} of the '+'-joined tags, each seed once."""
+    """{(scene, image, object): {seed: success}} of the '+'-joined tags, each seed once."""
     seeds = defaultdict(dict)
     for t in tags.split("+"):
         if t not in data:
@@ -126,9 +126,7 @@ def pooled(data, tags, tsv):
                 if seeds[key].setdefault(seed, success) != success:
                     fail(f"{tags}: seed {seed} of instance {key} differs between the tags: "
                          "they are not the same options")
-    if not seeds:
-        fail(f"{tsv}: {tags} has no line with the ADD-S column (written before 2026-12-03)")
-    return {key: list(outcomes.values()) for key, outcomes in seeds.items()}
+    return seeds
 
 
 def rate(outcomes):
@@ -141,7 +139,11 @@ def rate(outcomes):
 
 def compare(tag_a, tag_b, tsv, adds=False, main_job_instances=108):
     loaded, names = load(tsv, 8 if adds else 7)
-    data = {t: pooled(loaded, t, tsv) for t in (tag_a, tag_b)}
+    data = {}
+    for t in (tag_a, tag_b):
+        data[t] = {key: list(outcomes.values()) for key, outcomes in pooled(loaded, t, tsv).items()}
+        if not data[t]:  # only where every line of t predates the ADD-S column
+            fail(f"{tsv}: {t} has no line with the ADD-S column (written before 2026-12-03)")
     common = sorted(set(data[tag_a]) & set(data[tag_b]))
     if not common:
         fail(f"{tag_a} and {tag_b} share no instance")
@@ -171,18 +173,14 @@ def compare(tag_a, tag_b, tsv, adds=False, main_job_instances=108):
 
 
 def whole(tags, tsv):
-    loaded, loaded_adds = load(tsv, 7)[0], load(tsv, 8)[0]
-    pooled(loaded, tags, tsv)  # the tags exist, and agree on the seeds they share
-
-    def by_seed(data):
+    def by_seed(column):  # {seed: {instance: success}}
         out = defaultdict(dict)
-        for t in tags.split("+"):
-            for key, outcomes in data.get(t, {}).items():
-                for seed, success in outcomes.items():
-                    out[seed][key] = success
+        for key, outcomes in pooled(load(tsv, column)[0], tags, tsv).items():
+            for seed, success in outcomes.items():
+                out[seed][key] = success
         return out
 
-    add_s, adds = by_seed(loaded), by_seed(loaded_adds)
+    add_s, adds = by_seed(7), by_seed(8)
     instances = set().union(*add_s.values())
     n = len(instances)
     for seed in sorted(add_s):
