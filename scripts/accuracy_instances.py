@@ -22,7 +22,7 @@ Usage:
       Appends the instances of EVAL_JSON (`mcpose eval --json`) whose (scene, image, class) has
       a box in DETECTIONS_JSON, replacing the tag's earlier lines for that seed; prints the
       subset's ADD(-S) < 4 cm and ADD-S < 4 cm in % of those instances, and their number.
-  accuracy_instances.py compare [--adds] TAG_A TAG_B [instances.tsv]
+  accuracy_instances.py compare [--adds] [--instances] TAG_A TAG_B [instances.tsv]
       Per object, over the instances both tags have: seeds, expected successes of A and B, the
       difference and its standard error (an instance with one seed counts the largest binomial
       variance, 0.25); then the total in instances and in points of the main job's 108, with a
@@ -35,6 +35,8 @@ Usage:
       (the mean distance to the nearest model point) scores the fit of the shape, not which
       of its twins was chosen: the sugar box turned half a turn has ADD 10-12 cm and ADD-S
       a few mm.
+      --instances also lists, under each object, every instance (scene/image): its seeds and
+      success rate in A and in B, and the difference.
   accuracy_instances.py whole TAGS [instances.tsv]
       The seeds that the '+'-joined TAGS ran on every instance any of them has (e.g. one
       class's boxes per tag, all classes together): whole runs assembled from subset runs,
@@ -137,7 +139,7 @@ def rate(outcomes):
     return p, var
 
 
-def compare(tag_a, tag_b, tsv, adds=False, main_job_instances=108):
+def compare(tag_a, tag_b, tsv, adds=False, instances=False, main_job_instances=108):
     loaded, names = load(tsv, 8 if adds else 7)
     data = {}
     for t in (tag_a, tag_b):
@@ -165,6 +167,10 @@ def compare(tag_a, tag_b, tsv, adds=False, main_job_instances=108):
         nb = f"{min(len(data[tag_b][k]) for k in keys)}-{max(len(data[tag_b][k]) for k in keys)}"
         print(f"{names[obj]:24} {len(keys):4} {na:>8} {nb:>8} | {ea:12.2f} {eb:12.2f} | "
               f"{ea - eb:+.2f} ({math.sqrt(var):.2f})")
+        if instances:
+            for k, (pa, va), (pb, vb) in zip(keys, sa, sb):
+                print(f"  {f'{k[0]}/{k[1]}':27} {len(data[tag_a][k]):>8} {len(data[tag_b][k]):>8} | "
+                      f"{pa:12.2f} {pb:12.2f} | {pa - pb:+.2f} ({math.sqrt(va + vb):.2f})")
     se = math.sqrt(total_var)
     print(f"{'ALL':24} {len(common):4} | A - B {total_d:+.2f} instances (SE {se:.2f}); "
           f"{100 * total_d / main_job_instances:+.2f} points of the main job's {main_job_instances} "
@@ -194,12 +200,13 @@ def main(argv):
     if len(argv) >= 6 and argv[1] == "record":
         record(argv[2], int(argv[3]), argv[4], argv[5], argv[6] if len(argv) > 6 else DEFAULT_TSV)
     elif len(argv) >= 4 and argv[1] == "compare":
-        adds = argv[2] == "--adds"
-        args = argv[3:] if adds else argv[2:]
+        flags = {"--adds", "--instances"}
+        args = [a for a in argv[2:] if a not in flags]
         if len(args) < 2:
             print(__doc__, file=sys.stderr)
             sys.exit(2)
-        compare(args[0], args[1], args[2] if len(args) > 2 else DEFAULT_TSV, adds)
+        compare(args[0], args[1], args[2] if len(args) > 2 else DEFAULT_TSV,
+                "--adds" in argv[2:], "--instances" in argv[2:])
     elif len(argv) >= 3 and argv[1] == "whole":
         whole(argv[2], argv[3] if len(argv) > 3 else DEFAULT_TSV)
     else:

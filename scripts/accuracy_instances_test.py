@@ -42,6 +42,20 @@ class CompareTest(unittest.TestCase):
         line = next(l for l in r.stdout.splitlines() if l.startswith("004_sugar_box"))
         self.assertIn("0.67         1.00 | -0.33", line)
 
+    def test_instances_lists_each_instance_under_its_object(self):
+        lines = (rows("A", 0, [(1, 1), (2, 0)], adds=1) + rows("A", 1, [(1, 1), (2, 1)], adds=1) +
+                 rows("B", 0, [(1, 0), (2, 1)], adds=1))
+        r = self.compare(lines, "A", "B", "--instances")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        out = r.stdout.splitlines()
+        first = out.index(next(l for l in out if l.startswith("004_sugar_box")))
+        # Image 1: A both seeds, B none; image 2: A one of two, B its one seed.
+        self.assertRegex(out[first + 1], r"^  1/1 +2 +1 \| +1\.00 +0\.00 \| \+1\.00 ")
+        self.assertRegex(out[first + 2], r"^  1/2 +2 +1 \| +0\.50 +1\.00 \| -0\.50 ")
+        self.assertTrue(out[first + 3].startswith("ALL"))
+        plain = self.compare(lines, "A", "B").stdout.splitlines()
+        self.assertEqual(plain, [l for l in out if not l.startswith("  ")])  # the same totals
+
     def test_adds_names_a_tag_without_the_column(self):
         r = self.compare(rows("A", 0, [(1, 1)], adds=1) + rows("B", 0, [(1, 1)]), "A", "B", "--adds")
         self.assertNotEqual(r.returncode, 0)
