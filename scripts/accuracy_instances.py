@@ -42,6 +42,15 @@ Usage:
       class's boxes per tag, all classes together): whole runs assembled from subset runs,
       with the poses of a whole run. Prints per such seed: seed, ADD(-S) < 4 cm and
       ADD-S < 4 cm in % of those instances (ADD-S: "-" where a line lacks it), and their number.
+  accuracy_instances.py separation TAG_A TAG_B [instances.tsv]
+      Why two tags differ on an object: per object, for each tag, how often a run that
+      succeeded on an instance ended with a higher weight (the `score` column of
+      out/seeds/TAG/seed_S.csv, beside instances.tsv) than a run that failed on the same
+      instance, over all such pairs of runs (0.5: the weight does not tell the right pose from
+      the wrong ones, 1: it always prefers the right one; ties count half), and the mean weight
+      of the successes minus that of the failures. Then the correlation of success between A
+      and B on the seeds both ran (each instance's seed s draws the same initial samples and
+      noise in both, so a high correlation would make a paired comparison sharper).
 """
 import csv
 import json
@@ -196,6 +205,84 @@ def whole(tags, tsv):
         print(f"{seed}\t{100 * sum(add_s[seed].values()) / n:.1f}\t{share}\t{n}")
 
 
+def run_weights(tags, tsv, data):
+    """{(scene, image, object): {seed: weight}} of the '+'-joined tags, from each tag's
+    seed_S.csv beside `tsv`, for the instances and seeds `data` (pooled outcomes) holds."""
+    weights = defaultdict(dict)
+    for t in tags.split("+"):
+        seeds = sorted({s for outcomes in data.values() for s in outcomes})
+        for seed in seeds:
+            path = os.path.join(os.path.dirname(tsv) or ".", t, f"seed_{seed}.csv")
+            if not os.path.exists(path):
+                continue  # this tag of the pool did not run that seed
+            with open(path) as f:
+                for line, r in enumerate(csv.DictReader(f), 2):
+                    try:
+                        key = (int(r["scene_id"]), int(r["im_id"]), int(r["obj_id"]))
+                        weight = float(r["score"])
+                    except (KeyError, TypeError, ValueError):
+                        fail(f"{path}:{line}: not a results row (scene_id, im_id, obj_id, score, ...)")
+                    if key in data and seed in data[key]:
+                        weights[key][seed] = weight
+    for key, outcomes in data.items():
+        missing = [s for s in outcomes if s not in weights[key]]
+        if missing:
+            fail(f"{tags}: no results row of instance {key} for seed {missing[0]} in "
+                 f"{os.path.join(os.path.dirname(tsv) or '.', '<tag>', f'seed_{missing[0]}.csv')}")
+    return weights
+
+
+def separation(tag_a, tag_b, tsv):
+    loaded, names = load(tsv)
+    data = {t: pooled(loaded, t, tsv) for t in (tag_a, tag_b)}
+    weights = {t: run_weights(t, tsv, data[t]) for t in (tag_a, tag_b)}
+    common = sorted(set(data[tag_a]) & set(data[tag_b]))
+    if not common:
+        fail(f"{tag_a} and {tag_b} share no instance")
+    per_object = defaultdict(list)
+    for key in common:
+        per_object[key[2]].append(key)
+
+    def separate(t, keys):  # P(success's weight > failure's), mean difference; None: no pair
+        wins, pairs, diffs = 0.0, 0, []
+        for k in keys:
+            ok = [weights[t][k][s] for s, x in data[t][k].items() if x]
+            bad = [weights[t][k][s] for s, x in data[t][k].items() if not x]
+            for a in ok:
+                for b in bad:
+                    wins += 1.0 if a > b else 0.5 if a == b else 0.0
+            pairs += len(ok) * len(bad)
+            if ok and bad:
+                diffs.append(sum(ok) / len(ok) - sum(bad) / len(bad))
+        if not pairs:
+            return None
+        return wins / pairs, sum(diffs) / len(diffs)
+
+    def paired(keys):  # correlation of A's and B's success on the seeds both ran; None: no spread
+        xs = [(data[tag_a][k][s], data[tag_b][k][s]) for k in keys for s in data[tag_a][k] if s in data[tag_b][k]]
+        n = len(xs)
+        if n < 2:
+            return None, n
+        ma, mb = sum(a for a, _ in xs) / n, sum(b for _, b in xs) / n
+        cov = sum((a - ma) * (b - mb) for a, b in xs) / n
+        va, vb = ma * (1 - ma), mb * (1 - mb)
+        return (cov / math.sqrt(va * vb) if va > 0 and vb > 0 else None), n
+
+    print(f"Does the weight tell the right pose from the wrong ones? (ADD(-S) < 4 cm; A = {tag_a}, B = {tag_b})")
+    print("P: how often a success's weight beats a failure's of the same instance; dw: the mean weight of the")
+    print("successes minus the failures'; r: the correlation of A's and B's successes on the same seeds")
+    print(f"{'object':24} {'P A':>6} {'dw A':>9} {'P B':>6} {'dw B':>9} | {'pairs':>6} {'r':>6}")
+    for obj in sorted(per_object):
+        keys = per_object[obj]
+        cells = []
+        for t in (tag_a, tag_b):
+            s = separate(t, keys)
+            cells += ["-", "-"] if s is None else [f"{s[0]:.2f}", f"{s[1]:+.5f}"]
+        r, n = paired(keys)
+        print(f"{names[obj]:24} {cells[0]:>6} {cells[1]:>9} {cells[2]:>6} {cells[3]:>9} | "
+              f"{n:6} {'-' if r is None else f'{r:+.2f}':>6}")
+
+
 def main(argv):
     if len(argv) >= 6 and argv[1] == "record":
         record(argv[2], int(argv[3]), argv[4], argv[5], argv[6] if len(argv) > 6 else DEFAULT_TSV)
@@ -207,6 +294,8 @@ def main(argv):
             sys.exit(2)
         compare(args[0], args[1], args[2] if len(args) > 2 else DEFAULT_TSV,
                 "--adds" in argv[2:], "--instances" in argv[2:])
+    elif len(argv) >= 4 and argv[1] == "separation":
+        separation(argv[2], argv[3], argv[4] if len(argv) > 4 else DEFAULT_TSV)
     elif len(argv) >= 3 and argv[1] == "whole":
         whole(argv[2], argv[3] if len(argv) > 3 else DEFAULT_TSV)
     else:

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Tests of accuracy_instances.py (record, compare, whole) on small hand-made files; ctest runs it."""
+"""Tests of accuracy_instances.py (record, compare, whole, separation) on small hand-made files; ctest runs it."""
 import json
 import os
 import subprocess
@@ -99,6 +99,47 @@ class CompareTest(unittest.TestCase):
         self.assertEqual(r.returncode, 0, r.stderr)
         # Only seed 0 ran all three instances: 1 of 3 ADD(-S), 3 of 3 ADD-S.
         self.assertEqual(r.stdout, "0\t33.3\t100.0\t3\n")
+
+
+class SeparationTest(unittest.TestCase):
+    # (tag, seed, image, success, weight) of object 3 in scene 1
+    RUNS = [("A", 0, 1, 1, 0.8), ("A", 1, 1, 0, 0.7),   # image 1: the success weighs more
+            ("A", 0, 2, 0, 0.5), ("A", 1, 2, 1, 0.6),   # image 2: again
+            ("B", 0, 1, 1, 0.5), ("B", 1, 1, 0, 0.5),   # image 1: a tie
+            ("B", 0, 2, 1, 0.7), ("B", 1, 2, 1, 0.7)]   # image 2: no failure, no pair
+
+    def separation(self, runs, drop_csv=None):
+        with tempfile.TemporaryDirectory() as d:
+            tsv = os.path.join(d, "instances.tsv")
+            with open(tsv, "w") as f:
+                for tag, seed, image, ok, _ in runs:
+                    f.write(rows(tag, seed, [(image, ok)], adds=1)[0] + "\n")
+            csvs = {}
+            for tag, seed, image, _, weight in runs:
+                csvs.setdefault((tag, seed), ["scene_id,im_id,obj_id,score,R,t,time"]).append(
+                    f"1,{image},3,{weight},1 0 0 0 1 0 0 0 1,0 0 500,0.1")
+            for (tag, seed), lines in csvs.items():
+                if (tag, seed) == drop_csv:
+                    continue
+                os.makedirs(os.path.join(d, tag), exist_ok=True)
+                with open(os.path.join(d, tag, f"seed_{seed}.csv"), "w") as f:
+                    f.write("\n".join(lines) + "\n")
+            return subprocess.run([sys.executable, SCRIPT, "separation", "A", "B", tsv], capture_output=True,
+                                  text=True)
+
+    def test_separation_counts_pairs_of_runs_within_each_instance(self):
+        r = self.separation(self.RUNS)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        line = next(l for l in r.stdout.splitlines() if l.startswith("004_sugar_box"))
+        # A: both pairs won, dw +0.1 in each image. B: one pair, a tie, dw 0. The same-seed
+        # successes (A, B): (1, 1), (0, 0), (0, 1), (1, 1): r = 0.125 / sqrt(0.25 * 0.1875).
+        self.assertRegex(line, r"^004_sugar_box +1\.00 +\+0\.10000 +0\.50 +\+0\.00000 \| +4 +\+0\.58$")
+
+    def test_separation_names_a_missing_results_file(self):
+        r = self.separation(self.RUNS, drop_csv=("B", 1))
+        self.assertNotEqual(r.returncode, 0)
+        self.assertIn("for seed 1", r.stderr)
+        self.assertIn("seed_1.csv", r.stderr)
 
 
 class RecordTest(unittest.TestCase):
