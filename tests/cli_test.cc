@@ -467,9 +467,46 @@ TEST(Cli, EvalScoresGroundTruthDetectionsRunOnBothLayouts) {
   }
 }
 
+// The tuna can of 49/1 turned about its axis: the full mesh at every pixel jitters less from one
+// turn to the next than the defaults' level of detail at pixel stride 2 (the README's turn profiles).
+TEST(Cli, TurnProfileOfTheTunaCan) {
+  const fs::path dir = testing::TempDir("turn_profile");
+  WriteText(dir / "d.json", Scene49Detections().dump());
+  const std::string base = "turn-profile --dataset " + testing::YcbvDir() + " --detections " + (dir / "d.json").string();
+  std::map<std::string, nlohmann::json> runs;
+  for (const std::string opts : {"", " --engine float-simd --lod-px 0 --pixel-stride 1 --max-grid-pixels 0"}) {
+    const fs::path json = dir / (opts.empty() ? "defaults.json" : "reference.json");
+    const CliResult r = RunCli(base + " --obj 6 --threads 2 --json " + json.string() + opts, dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("007_tuna_fish_can about model axis z"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("\n49/1 "), std::string::npos) << r.out;
+    runs[opts.empty() ? "defaults" : "reference"] = nlohmann::json::parse(ReadText(json));
+  }
+  const nlohmann::json& d = runs["defaults"]["instances"];
+  const nlohmann::json& ref = runs["reference"]["instances"];
+  ASSERT_EQ(d.size(), 1u);
+  ASSERT_EQ(ref.size(), 1u);
+  EXPECT_EQ(d[0]["weight"].size(), 72u);
+  EXPECT_EQ(d[0]["stride"], 2);
+  EXPECT_EQ(ref[0]["stride"], 1);
+  EXPECT_LT(d[0]["triangles"].get<int>(), ref[0]["triangles"].get<int>());
+  EXPECT_GT(d[0]["jitter"].get<double>(), 1.5 * ref[0]["jitter"].get<double>());
+
+  // Bad input: one error, a non-zero exit, no JSON.
+  for (const auto& [args, message] : std::vector<std::pair<std::string, std::string>>{
+           {" --obj 99", "99"}, {" --obj 5", "no box of obj_id 5"}, {" --obj 6 --step-deg 7", "divide 360"},
+           {" --obj 6 --engine warp", "--engine must be"}}) {
+    const fs::path json = dir / "bad.json";
+    const CliResult r = RunCli(base + args + " --json " + json.string(), dir);
+    EXPECT_NE(r.exit_code, 0) << args;
+    EXPECT_NE(r.err.find(message), std::string::npos) << args << ": " << r.err;
+    EXPECT_FALSE(fs::exists(json)) << args;
+  }
+}
+
 TEST(Cli, HelpOnEveryCommand) {
   const fs::path dir = testing::TempDir("help");
-  for (const char* cmd : {"", "estimate ", "detections-from-gt ", "eval ", "bench "}) {
+  for (const char* cmd : {"", "estimate ", "detections-from-gt ", "eval ", "bench ", "ambiguity ", "turn-profile "}) {
     const CliResult r = RunCli(std::string(cmd) + "--help", dir);
     EXPECT_EQ(r.exit_code, 0) << cmd;
     EXPECT_NE(r.out.find("--"), std::string::npos) << cmd;

@@ -18,6 +18,7 @@ void AddDetectionsFromGtCommand(CLI::App& app, Status* status);
 void AddEvalCommand(CLI::App& app, Status* status);
 void AddBenchCommand(CLI::App& app, Status* status);
 void AddAmbiguityCommand(CLI::App& app, Status* status);
+void AddTurnProfileCommand(CLI::App& app, Status* status);
 
 // The engine counters of one object as JSON (estimate --out-json, bench --json).
 nlohmann::json CountersJson(const EngineCounters& counters);

@@ -67,6 +67,7 @@ int main(int argc, char** argv) {
   mcpose::cli::AddEvalCommand(app, &status);
   mcpose::cli::AddBenchCommand(app, &status);
   mcpose::cli::AddAmbiguityCommand(app, &status);
+  mcpose::cli::AddTurnProfileCommand(app, &status);
   spdlog::set_pattern("[%H:%M:%S] %v");
   try {
     app.parse(argc, argv);

@@ -1,0 +1,140 @@
+#include "analysis/turn_profile.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include <Eigen/Geometry>
+
+#include "engine/initialize.h"
+#include "engine/raster_cores.h"
+#include "render/lod.h"
+#include "score/inlier.h"
+
+namespace mcpose::analysis {
+
+bool TurnProfileOptions::IsValid(std::string* error) const {
+  auto fail = [&](const std::string& m) {
+    if (error) *error = m;
+    return false;
+  };
+  if (!(step_deg > 0 && step_deg <= 45)) return fail("step_deg must be in (0, 45]");
+  const double steps = 360.0 / step_deg;
+  if (std::fabs(steps - std::round(steps)) > 1e-9) return fail("step_deg must divide 360");
+  if (axis < -1 || axis > 2) return fail("axis must be 0, 1, 2 or -1 (automatic)");
+  if (!(near_deg >= 0 && near_deg < 180)) return fail("near_deg must be in [0, 180)");
+  return true;
+}
+
+TurnProfileStats SummarizeTurnProfile(std::span<const double> w, double step_deg, double near_deg) {
+  TurnProfileStats s;
+  const int n = static_cast<int>(w.size());
+  if (n < 3) return s;
+  auto at = [&](int k) { return w[static_cast<size_t>(((k % n) + n) % n)]; };
+  double sq = 0;
+  for (int k = 0; k < n; ++k) {
+    const double d2 = at(k + 1) - 2 * at(k) + at(k - 1);
+    sq += d2 * d2;
+  }
+  s.jitter = std::sqrt(sq / n / 6);
+  double lo = INFINITY, hi = -INFINITY;
+  for (int k = 0; k < n; ++k) {
+    double m = 0;
+    for (int j = -3; j <= 3; ++j) m += at(k + j);
+    lo = std::min(lo, m / 7), hi = std::max(hi, m / 7);
+  }
+  s.range = hi - lo;
+  auto is_near = [&](int k) {
+    const double a = std::fmod(k * step_deg, 360.0);
+    return std::min(a, 360.0 - a) <= near_deg + 1e-9;
+  };
+  s.truth = -INFINITY;
+  for (int k = 0; k < n; ++k)
+    if (is_near(k)) s.truth = std::max(s.truth, w[static_cast<size_t>(k)]);
+  int far = 0, beaten = 0;
+  for (int k = 0; k < n; ++k) {
+    if (is_near(k)) continue;
+    ++far;
+    beaten += w[static_cast<size_t>(k)] > s.truth;
+  }
+  s.beaten = far > 0 ? static_cast<double>(beaten) / far : 0.0;
+  return s;
+}
+
+int DistinctAxis(const Mesh& mesh) {
+  const Eigen::Vector3f e = mesh.BoundsMax() - mesh.BoundsMin();
+  int axis = 0;
+  double best = -1;
+  for (int a = 0; a < 3; ++a) {
+    const double off = std::fabs(e[a] - 0.5 * (e[(a + 1) % 3] + e[(a + 2) % 3]));
+    if (off > best) best = off, axis = a;
+  }
+  return axis;
+}
+
+StatusOr<TurnProfile> ProfileTurns(const Intrinsics& K, const DepthImage& depth, const Mesh& mesh,
+                                   const Detection& box, const SE3& T_gt, const EstimatorOptions& options,
+                                   const TurnProfileOptions& turn) {
+  std::string error;
+  if (!turn.IsValid(&error)) return InvalidArgument("invalid turn profile options: " + error);
+  if (!options.IsValid(&error)) return InvalidArgument("invalid engine options: " + error);
+  if (!K.IsValid(&error)) return InvalidArgument(error);
+  if (depth.width != K.width || depth.height != K.height ||
+      depth.depth_m.size() != static_cast<size_t>(depth.width) * depth.height)
+    return InvalidArgument("the depth image does not match the intrinsics' size");
+  MCPOSE_RETURN_IF_ERROR(mesh.Validate("mesh"));
+  const render::PixelRect rect = engine::ClipBox(box.x, box.y, box.w, box.h, K.width, K.height);
+  if (rect.empty()) return InvalidArgument("the box lies outside the image");
+
+  TurnProfile out;
+  out.axis = turn.axis >= 0 ? turn.axis : DistinctAxis(mesh);
+  std::vector<engine::BoxDepth> boxes;
+  boxes.push_back(engine::DistributeDepth(depth, K, rect, box.score, options.inlier_mode,
+                                          engine::BoxStride(rect, options)));
+  out.stride = boxes[0].stride;
+  // The estimator's choice of mesh for this box (Estimator::Estimate).
+  std::vector<const Mesh*> box_mesh{&mesh};
+  std::vector<const render::ClusterSet*> box_clusters;
+  render::LodChain lod;
+  if (options.lod_error_px > 0) {
+    lod = render::LodChain::Build(mesh, options.lod_unbiased ? render::LodVertices::kUnbiased
+                                                             : render::LodVertices::kKept);
+    const render::LodLevel& level = lod.level(engine::SelectLodLevel(lod, K, mesh, box, boxes[0], options));
+    box_mesh[0] = &level.mesh;
+    if (options.cluster_culling) box_clusters.push_back(&level.clusters);
+  }
+  out.triangles = static_cast<int>(box_mesh[0]->triangles.size());
+  engine::ScoreJob job;
+  job.mesh = &mesh;
+  job.box_mesh = box_mesh;
+  job.box_clusters = box_clusters;
+  job.K = K;
+  job.boxes = boxes;
+  engine::SetEngineOptions(options, &job);
+
+  const int n = static_cast<int>(std::lround(360.0 / turn.step_deg));
+  const Eigen::Vector3d c = (0.5f * (mesh.BoundsMin() + mesh.BoundsMax())).cast<double>();
+  filter::ParticleSet poses;
+  poses.Resize(static_cast<size_t>(n));
+  for (int k = 0; k < n; ++k) {
+    const double a = k * turn.step_deg;
+    const Eigen::Matrix3d S =
+        Eigen::AngleAxisd(a * std::numbers::pi / 180, Eigen::Vector3d::Unit(out.axis)).toRotationMatrix();
+    // Turned about the box centre c: X -> S (X - c) + c in the model frame.
+    poses.R_cam_obj[static_cast<size_t>(k)] = T_gt.R * S;
+    poses.t_cam_obj_m[static_cast<size_t>(k)] = T_gt.R * (c - S * c) + T_gt.t;
+    poses.box[static_cast<size_t>(k)] = 0;
+    out.angle_deg.push_back(a);
+  }
+  engine::RasterCores cores(options.threads, options.backend);
+  std::vector<score::InlierCounts> counts(static_cast<size_t>(n));
+  render::RasterStats stats;
+  cores.Score(job, poses, counts, &stats);
+  for (const score::InlierCounts& k : counts)
+    out.weight.push_back(score::Weight(k, box.score, options.weight_a, options.weight_b, options.weight_c,
+                                       options.occlusion_aware));
+  out.stats = SummarizeTurnProfile(out.weight, turn.step_deg, turn.near_deg);
+  return out;
+}
+
+}  // namespace mcpose::analysis
