@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 
 #include <Eigen/Geometry>
 
@@ -92,17 +93,15 @@ StatusOr<TurnProfile> ProfileTurns(const Intrinsics& K, const DepthImage& depth,
   boxes.push_back(engine::DistributeDepth(depth, K, rect, box.score, options.inlier_mode,
                                           engine::BoxStride(rect, options)));
   out.stride = boxes[0].stride;
-  // The estimator's choice of mesh for this box (Estimator::Estimate).
-  std::vector<const Mesh*> box_mesh{&mesh};
-  std::vector<const render::ClusterSet*> box_clusters;
-  render::LodChain lod;
-  if (options.lod_error_px > 0) {
+  // The estimator's choice of mesh for this box.
+  std::optional<render::LodChain> lod;
+  if (options.lod_error_px > 0)
     lod = render::LodChain::Build(mesh, options.lod_unbiased ? render::LodVertices::kUnbiased
                                                              : render::LodVertices::kKept);
-    const render::LodLevel& level = lod.level(engine::SelectLodLevel(lod, K, mesh, box, boxes[0], options));
-    box_mesh[0] = &level.mesh;
-    if (options.cluster_culling) box_clusters.push_back(&level.clusters);
-  }
+  std::vector<const Mesh*> box_mesh;
+  std::vector<const render::ClusterSet*> box_clusters;
+  engine::ChooseBoxMeshes(lod ? &*lod : nullptr, K, mesh, std::span(&box, 1), boxes, options, &box_mesh,
+                          &box_clusters);
   out.triangles = static_cast<int>(box_mesh[0]->triangles.size());
   engine::ScoreJob job;
   job.mesh = &mesh;

@@ -124,18 +124,10 @@ StatusOr<ObjectEstimate> Estimator::Estimate(const Intrinsics& K, const DepthIma
 
   // ---- Level of detail: per box, the coarsest mesh within the pixel error budget ----------
   std::shared_ptr<const render::LodChain> lod;
+  if (opt.lod_error_px > 0) lod = impl_->Lod(mesh);
   std::vector<const Mesh*> box_mesh;
   std::vector<const render::ClusterSet*> box_clusters;
-  if (opt.lod_error_px > 0) {
-    lod = impl_->Lod(mesh);
-    for (size_t b = 0; b < boxes.size(); ++b) {
-      const render::LodLevel& level = lod->level(engine::SelectLodLevel(*lod, K, mesh, boxes[b], box_depth[b], opt));
-      box_mesh.push_back(&level.mesh);
-      if (opt.cluster_culling) box_clusters.push_back(&level.clusters);
-    }
-  } else {
-    box_mesh.assign(boxes.size(), &mesh);
-  }
+  engine::ChooseBoxMeshes(lod.get(), K, mesh, boxes, box_depth, opt, &box_mesh, &box_clusters);
   for (const Mesh* m : box_mesh) result.box_triangles.push_back(static_cast<int>(m->triangles.size()));
 
   // ---- Iterate: score, keep the best, stop or resample + diffuse -------------------------

@@ -46,6 +46,25 @@ int SelectLodLevel(const render::LodChain& lod, const Intrinsics& K, const Mesh&
                                             static_cast<float>(std::min(K.fx, K.fy))));
 }
 
+void ChooseBoxMeshes(const render::LodChain* lod, const Intrinsics& K, const Mesh& mesh,
+                     std::span<const Detection> boxes, std::span<const BoxDepth> box_depth,
+                     const EstimatorOptions& options, std::vector<const Mesh*>* box_mesh,
+                     std::vector<const render::ClusterSet*>* box_clusters) {
+  MCPOSE_CHECK_EQ(boxes.size(), box_depth.size());
+  box_mesh->clear();
+  box_clusters->clear();
+  if (!(options.lod_error_px > 0)) {
+    box_mesh->assign(boxes.size(), &mesh);
+    return;
+  }
+  MCPOSE_CHECK(lod != nullptr);
+  for (size_t b = 0; b < boxes.size(); ++b) {
+    const render::LodLevel& level = lod->level(SelectLodLevel(*lod, K, mesh, boxes[b], box_depth[b], options));
+    box_mesh->push_back(&level.mesh);
+    if (options.cluster_culling) box_clusters->push_back(&level.clusters);
+  }
+}
+
 void InitializeSamples(const Intrinsics& K, const Mesh& mesh, std::span<const Detection> boxes,
                        std::span<const BoxDepth> box_depth, const EstimatorOptions& options,
                        uint64_t stream_id, filter::ParticleSet* particles) {

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <span>
+#include <vector>
 
 #include "engine/raster_cores.h"
 #include "filter/particles.h"
@@ -29,6 +30,15 @@ double InitialDepth(const Intrinsics& K, const Mesh& mesh, const Detection& d, c
 // a coarser mesh safe (the README's accuracy section: LOD and depth twins).
 int SelectLodLevel(const render::LodChain& lod, const Intrinsics& K, const Mesh& mesh, const Detection& d,
                    const BoxDepth& box, const EstimatorOptions& options);
+
+// The mesh each box renders and its culling clusters, as the estimator chooses them. With LOD on
+// (options.lod_error_px > 0): the level SelectLodLevel picks from `lod`, the chain of `mesh`,
+// and with options.cluster_culling that level's clusters. With LOD off: `mesh` and no clusters
+// (`lod` may be null). `box_mesh` gets one entry per box; `box_clusters` one per box or none.
+void ChooseBoxMeshes(const render::LodChain* lod, const Intrinsics& K, const Mesh& mesh,
+                     std::span<const Detection> boxes, std::span<const BoxDepth> box_depth,
+                     const EstimatorOptions& options, std::vector<const Mesh*>* box_mesh,
+                     std::vector<const render::ClusterSet*>* box_clusters);
 
 void InitializeSamples(const Intrinsics& K, const Mesh& mesh, std::span<const Detection> boxes,
                        std::span<const BoxDepth> box_depth, const EstimatorOptions& options,
