@@ -148,6 +148,17 @@ def rate(outcomes):
     return p, var
 
 
+def shared_instances(data, tag_a, tag_b):
+    """The instances both tags have, sorted, and {object: those of its instances}."""
+    common = sorted(set(data[tag_a]) & set(data[tag_b]))
+    if not common:
+        fail(f"{tag_a} and {tag_b} share no instance")
+    per_object = defaultdict(list)
+    for key in common:
+        per_object[key[2]].append(key)
+    return common, per_object
+
+
 def compare(tag_a, tag_b, tsv, adds=False, instances=False, main_job_instances=108):
     loaded, names = load(tsv, 8 if adds else 7)
     data = {}
@@ -155,12 +166,7 @@ def compare(tag_a, tag_b, tsv, adds=False, instances=False, main_job_instances=1
         data[t] = {key: list(outcomes.values()) for key, outcomes in pooled(loaded, t, tsv).items()}
         if not data[t]:  # only where every line of t predates the ADD-S column
             fail(f"{tsv}: {t} has no line with the ADD-S column (written before 2026-12-03)")
-    common = sorted(set(data[tag_a]) & set(data[tag_b]))
-    if not common:
-        fail(f"{tag_a} and {tag_b} share no instance")
-    per_object = defaultdict(list)
-    for key in common:
-        per_object[key[2]].append(key)
+    common, per_object = shared_instances(data, tag_a, tag_b)
     print(f"Expected successes, {'ADD-S' if adds else 'ADD(-S)'} < 4 cm")
     print(f"{'object':24} inst  seeds A  seeds B | {tag_a[:12]:>12} {tag_b[:12]:>12} | A - B (SE)")
     total_d, total_var = 0.0, 0.0
@@ -236,12 +242,7 @@ def separation(tag_a, tag_b, tsv):
     loaded, names = load(tsv)
     data = {t: pooled(loaded, t, tsv) for t in (tag_a, tag_b)}
     weights = {t: run_weights(t, tsv, data[t]) for t in (tag_a, tag_b)}
-    common = sorted(set(data[tag_a]) & set(data[tag_b]))
-    if not common:
-        fail(f"{tag_a} and {tag_b} share no instance")
-    per_object = defaultdict(list)
-    for key in common:
-        per_object[key[2]].append(key)
+    _, per_object = shared_instances(data, tag_a, tag_b)
 
     def separate(t, keys):  # P(success's weight > failure's), mean difference; None: no pair
         wins, pairs, diffs = 0.0, 0, []
