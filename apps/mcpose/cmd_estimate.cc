@@ -184,6 +184,7 @@ void AddEstimateCommand(CLI::App& app, Status* status) {
   cmd->add_option("--sigma-t-min", o.sigma_t_min_m, "Diffusion: smallest translation sigma, metres")->capture_default_str();
   cmd->add_option("--sigma-r-min", o.sigma_r_min_rad, "Diffusion: smallest rotation sigma, radians")->capture_default_str();
   cmd->add_option("--anneal", o.anneal, "Diffusion: sigma factor per iteration, (0, 1]")->capture_default_str();
+  cmd->add_option("--flip-rate", o.flip_rate, "Diffusion: probability that a resampled sample turns 180 degrees about a model axis, [0, 1]")->capture_default_str();
   cmd->add_option("--init-sigma-t", o.init_sigma_t_m, "Initial translation jitter, metres")->capture_default_str();
   cmd->add_option("--init-depth-quantile", o.init_depth_quantile, "Quantile of the box's valid depths for the initial distance")->capture_default_str();
   cmd->add_option("--engine", args->engine, "Raster core: scalar (float reference), fixed (1/16-pixel fixed point), simd (fixed point, Highway rows) or float-simd (the float reference a vector at a time, same results)")->capture_default_str();

@@ -81,6 +81,11 @@ struct EstimatorOptions {
   double sigma_t_min_m = 0.002;
   double sigma_r_min_rad = 0.03;
   double anneal = 0.93;            // per-iteration factor, (0, 1]
+  // Flip moves: each resampled sample is, with this probability, turned 180 degrees about one
+  // of the model's axes (chosen at random) through its bounding-box centre before the noise,
+  // so the search can jump to the other of two depth-alike twins. 0 = none (and no random
+  // draws for them: the same samples as without the option).
+  double flip_rate = 0.0;
 
   // --- Engine ---------------------------------------------------------------------------
   // The default is the fast engine; kScalar with lod_error_px = 0, pixel_stride = 1 and

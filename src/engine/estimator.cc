@@ -141,6 +141,7 @@ StatusOr<ObjectEstimate> Estimator::Estimate(const Intrinsics& K, const DepthIma
 
   std::vector<score::InlierCounts> counts(n);
   filter::CdfSampler sampler;
+  const Eigen::Vector3d flip_center = (0.5f * (mesh.BoundsMin() + mesh.BoundsMax())).cast<double>();
   std::vector<std::array<int64_t, 2>> worker_reads(static_cast<size_t>(cores.pool().size()));  // draws, naive
   int cur = 0;
   result.best_weight = -1;
@@ -219,8 +220,12 @@ StatusOr<ObjectEstimate> Estimator::Estimate(const Intrinsics& K, const DepthIma
         const double u = rng.Uniform();
         const int parent = sampler.Draw(u, &reads);
         reads_naive += sampler.LinearSearchReads(u);
-        filter::Diffuse(p.R_cam_obj[parent], p.t_cam_obj_m[parent], sigma_r, sigma_t, rng,
-                        &next.R_cam_obj[i], &next.t_cam_obj_m[i]);
+        Eigen::Matrix3d R = p.R_cam_obj[parent];
+        Eigen::Vector3d t = p.t_cam_obj_m[parent];
+        // A flip move draws only when enabled: flip_rate 0 gives the samples of a build without.
+        if (opt.flip_rate > 0 && rng.Uniform() < opt.flip_rate)
+          filter::Flip(std::min(2, static_cast<int>(3 * rng.Uniform())), flip_center, &R, &t);
+        filter::Diffuse(R, t, sigma_r, sigma_t, rng, &next.R_cam_obj[i], &next.t_cam_obj_m[i]);
         next.box[i] = p.box[parent];
       }
       worker_reads[worker][0] += reads, worker_reads[worker][1] += reads_naive;

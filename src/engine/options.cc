@@ -40,6 +40,7 @@ bool EstimatorOptions::IsValid(std::string* error) const {
   for (double s : {sigma_t_m, sigma_r_rad, sigma_t_min_m, sigma_r_min_rad})
     if (!(std::isfinite(s) && s >= 0)) return Fail(error, "diffusion sigmas must be finite and >= 0");
   if (!(anneal > 0 && anneal <= 1)) return Fail(error, "anneal must lie in (0, 1]");
+  if (!(flip_rate >= 0 && flip_rate <= 1)) return Fail(error, "flip_rate must lie in [0, 1]");
   if (!(std::isfinite(lod_error_px) && lod_error_px >= 0))
     return Fail(error, "lod_error_px must be finite and >= 0 (0 = full mesh)");
   if (pixel_stride < 1 || pixel_stride > 16)

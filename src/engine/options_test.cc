@@ -34,6 +34,8 @@ TEST(EstimatorOptions, EachInvalidFieldIsNamed) {
       {[](EstimatorOptions& o) { o.max_grid_pixels = -1; }, "max_grid_pixels"},
       {[](EstimatorOptions& o) { o.cdf_table_size = 0; }, "cdf_table_size"},
       {[](EstimatorOptions& o) { o.anneal = 1.5; }, "anneal"},
+      {[](EstimatorOptions& o) { o.flip_rate = -0.1; }, "flip_rate"},
+      {[](EstimatorOptions& o) { o.flip_rate = NAN; }, "flip_rate"},
       {[](EstimatorOptions& o) { o.sigma_r_rad = -1; }, "sigma"},
       {[](EstimatorOptions& o) { o.init_depth_quantile = 2; }, "init_depth_quantile"},
       {[](EstimatorOptions& o) { o.threads = -1; }, "threads"},

@@ -19,4 +19,15 @@ inline void Diffuse(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, double s
   *t_out = t + sigma_t_m * n_t;
 }
 
+// A flip move: the pose turned 180 degrees about model axis `axis` (0, 1, 2) through the model
+// point `center`, which stays where it was in the camera frame: R' = R F, t' = t + R (c - F c),
+// F = diag(+-1) with -1 off the axis.
+inline void Flip(int axis, const Eigen::Vector3d& center, Eigen::Matrix3d* R, Eigen::Vector3d* t) {
+  Eigen::Vector3d f(-1, -1, -1);
+  f[axis] = 1;
+  const Eigen::Vector3d c_flipped = f.cwiseProduct(center);
+  *t += *R * (center - c_flipped);
+  *R = *R * f.asDiagonal();
+}
+
 }  // namespace mcpose::filter

@@ -167,5 +167,28 @@ TEST(Diffuse, MeanAndCovarianceMatchSigmas) {
   EXPECT_LT((ct - st * st * Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff(), 0.05 * st * st);
 }
 
+// A flip turns the pose 180 degrees about one model axis through `center`: the centre stays put
+// in the camera frame, the axis keeps its direction, the other two reverse, and two flips about
+// the same axis give the pose back.
+TEST(Flip, TurnsHalfAboutAModelAxisThroughTheCentre) {
+  const Eigen::Matrix3d R0 = ExpSO3(Eigen::Vector3d(0.3, -0.2, 1.0));
+  const Eigen::Vector3d t0(0.1, -0.05, 0.8), c(0.01, -0.02, 0.03);
+  for (int axis = 0; axis < 3; ++axis) {
+    Eigen::Matrix3d R = R0;
+    Eigen::Vector3d t = t0;
+    Flip(axis, c, &R, &t);
+    EXPECT_LT((R * c + t - (R0 * c + t0)).norm(), 1e-12) << axis;
+    EXPECT_NEAR(R.determinant(), 1.0, 1e-12);
+    for (int k = 0; k < 3; ++k) {
+      const double sign = k == axis ? 1 : -1;
+      EXPECT_LT((R.col(k) - sign * R0.col(k)).norm(), 1e-12) << axis << " " << k;
+    }
+    EXPECT_NEAR(LogSO3(R0.transpose() * R).norm(), M_PI, 1e-9);
+    Flip(axis, c, &R, &t);
+    EXPECT_LT((R - R0).norm(), 1e-12);
+    EXPECT_LT((t - t0).norm(), 1e-12);
+  }
+}
+
 }  // namespace
 }  // namespace mcpose::filter
