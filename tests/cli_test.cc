@@ -173,6 +173,7 @@ const BadCase kBadCases[] = {
                   "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 1 1\n2 2 2\n3 0 1 2\n");
        return p.string(); }, ""},
     {"invalid_option", [](const fs::path&, nlohmann::json&) { return std::string("samples"); }, "--samples 0"},
+    {"invalid_flip_rate", [](const fs::path&, nlohmann::json&) { return std::string("flip_rate"); }, "--flip-rate 1.5"},
 };
 
 INSTANTIATE_TEST_SUITE_P(Cases, CliBadInput, ::testing::ValuesIn(kBadCases),
@@ -239,13 +240,13 @@ TEST(Cli, EachClassAloneGivesTheWholeRunsRow) {
 }
 
 std::string EngineTestName(const ::testing::TestParamInfo<std::string>& info) {
-  static const char* const kNames[] = {"scalar", "fixed", "simd_lod", "float_simd"};
+  static const char* const kNames[] = {"scalar", "fixed", "simd_lod", "float_simd", "simd_flips"};
   return kNames[info.index];
 }
 
 INSTANTIATE_TEST_SUITE_P(Engines, CliThreads,
                          ::testing::Values("--engine scalar", "--engine fixed", "--engine simd --lod-px 1",
-                                           "--engine float-simd"),
+                                           "--engine float-simd", "--engine simd --flip-rate 0.2"),
                          EngineTestName);
 
 // Boxes a detector gives for far, thin or mostly hidden objects: strips 2 to 7 pixels wide,
