@@ -20,6 +20,7 @@
 #include "io/png_io.h"
 #include "mcpose/results.h"
 #include "mcpose/options.h"
+#include "render/simd_targets.h"
 #include "test_data.h"
 
 namespace mcpose {
@@ -39,12 +40,14 @@ std::string ReadText(const fs::path& p) {
   return ss.str();
 }
 
-CliResult RunCli(const std::string& args, const fs::path& dir) {
+CliResult RunProgram(const std::string& program, const std::string& args, const fs::path& dir) {
   const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
-  const std::string cmd = std::string(MCPOSE_CLI_PATH) + " " + args + " > " + out.string() + " 2> " + err.string();
+  const std::string cmd = program + " " + args + " > " + out.string() + " 2> " + err.string();
   const int rc = std::system(cmd.c_str());
   return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, ReadText(out), ReadText(err)};
 }
+CliResult RunCli(const std::string& args, const fs::path& dir) { return RunProgram(MCPOSE_CLI_PATH, args, dir); }
+CliResult RunTools(const std::string& args, const fs::path& dir) { return RunProgram(MCPOSE_TOOLS_PATH, args, dir); }
 
 void WriteText(const fs::path& p, const std::string& text) {
   std::ofstream(p, std::ios::binary) << text;
@@ -302,7 +305,7 @@ TEST(Cli, ThinAndTinyBoxesGiveTheScalarEnginesCsvOnFloatSimd) {
 TEST(Cli, SimdTargetCapGivesTheSameCsv) {
   const fs::path dir = testing::TempDir("simd_target");
   WriteText(dir / "dets.json", Scene49Detections().dump());
-  const std::string targets = SimdTargets();
+  const std::string targets = render::SimdTargetsAvailable();
   const std::string worst = targets.substr(targets.rfind(' ') + 1);
   std::vector<std::vector<std::string>> runs;
   for (const std::string& cap : {std::string(), worst}) {
@@ -314,7 +317,7 @@ TEST(Cli, SimdTargetCapGivesTheSameCsv) {
                                dir);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     runs.push_back(RowsWithoutTime(out));
-    const std::string used = nlohmann::json::parse(ReadText(json))["options"]["simd_target"];
+    const std::string used = nlohmann::json::parse(ReadText(json))["options"]["engine"]["simd_target"];
     EXPECT_EQ(used, cap.empty() ? targets.substr(0, targets.find(' ')) : cap);
   }
   ASSERT_EQ(runs[0].size(), 4u);
@@ -341,7 +344,7 @@ TEST(Cli, LodVertexPlacementIsRecordedInTheJson) {
                                dir);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const nlohmann::json doc = nlohmann::json::parse(ReadText(json));
-    EXPECT_EQ(doc["options"]["lod_unbiased"].get<bool>(), flag.empty()) << flag;
+    EXPECT_EQ(doc["options"]["engine"]["lod_unbiased"].get<bool>(), flag.empty()) << flag;
     ASSERT_EQ(doc["objects"].size(), 3u);
     for (const auto& o : doc["objects"])
       for (const auto& n : o["box_triangles"]) EXPECT_GT(n.get<int>(), 0) << flag;
@@ -412,7 +415,7 @@ TEST(Cli, BenchWithoutBackfaceCullingKeepsBackFacesInEveryRenderer) {
                                dir);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     runs[culling] = nlohmann::json::parse(ReadText(json));
-    EXPECT_EQ(runs[culling]["options"]["backface_culling"].get<bool>(), culling);
+    EXPECT_EQ(runs[culling]["options"]["engine"]["backface_culling"].get<bool>(), culling);
   }
   const auto& on = runs[true]["objects"][0];
   const auto& off = runs[false]["objects"][0];
@@ -477,7 +480,7 @@ TEST(Cli, TurnProfileOfTheTunaCan) {
   std::map<std::string, nlohmann::json> runs;
   for (const std::string opts : {"", " --engine float-simd --lod-px 0 --pixel-stride 1 --max-grid-pixels 0"}) {
     const fs::path json = dir / (opts.empty() ? "defaults.json" : "reference.json");
-    const CliResult r = RunCli(base + " --obj 6 --threads 2 --json " + json.string() + opts, dir);
+    const CliResult r = RunTools(base + " --obj 6 --threads 2 --json " + json.string() + opts, dir);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_NE(r.out.find("007_tuna_fish_can about model axis z"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("\n49/1 "), std::string::npos) << r.out;
@@ -498,7 +501,7 @@ TEST(Cli, TurnProfileOfTheTunaCan) {
            {" --obj 99", "99"}, {" --obj 5", "no box of obj_id 5"}, {" --obj 6 --step-deg 7", "divide 360"},
            {" --obj 6 --engine warp", "--engine must be"}}) {
     const fs::path json = dir / "bad.json";
-    const CliResult r = RunCli(base + args + " --json " + json.string(), dir);
+    const CliResult r = RunTools(base + args + " --json " + json.string(), dir);
     EXPECT_NE(r.exit_code, 0) << args;
     EXPECT_NE(r.err.find(message), std::string::npos) << args << ": " << r.err;
     EXPECT_FALSE(fs::exists(json)) << args;
@@ -507,10 +510,42 @@ TEST(Cli, TurnProfileOfTheTunaCan) {
 
 TEST(Cli, HelpOnEveryCommand) {
   const fs::path dir = testing::TempDir("help");
-  for (const char* cmd : {"", "estimate ", "detections-from-gt ", "eval ", "bench ", "ambiguity ", "turn-profile "}) {
+  for (const char* cmd : {"", "estimate ", "detections-from-gt ", "eval ", "bench "}) {
     const CliResult r = RunCli(std::string(cmd) + "--help", dir);
     EXPECT_EQ(r.exit_code, 0) << cmd;
     EXPECT_NE(r.out.find("--"), std::string::npos) << cmd;
+  }
+  for (const char* cmd : {"", "ambiguity ", "turn-profile "}) {
+    const CliResult r = RunTools(std::string(cmd) + "--help", dir);
+    EXPECT_EQ(r.exit_code, 0) << cmd;
+    EXPECT_NE(r.out.find("--"), std::string::npos) << cmd;
+  }
+}
+
+// An engine feature the chosen engine cannot use is off by default there, and an error when
+// asked for: `--engine scalar` runs as is, `--engine scalar --cluster-culling` does not.
+TEST(Cli, EngineFeaturesFollowTheEngineAndAreRejectedWhereMeaningless) {
+  const fs::path dir = testing::TempDir("engine_features");
+  WriteText(dir / "dets.json", Scene49Detections().dump());
+  const std::string base = "estimate --dataset " + testing::YcbvDir() + " --detections " + (dir / "dets.json").string() +
+                           " --iterations 2 --samples 32 -q --out " + (dir / "r.csv").string() + " --out-json " +
+                           (dir / "r.json").string();
+  const CliResult ok = RunCli(base + " --engine scalar --lod-px 0", dir);
+  ASSERT_EQ(ok.exit_code, 0) << ok.err;
+  const nlohmann::json engine = nlohmann::json::parse(ReadText(dir / "r.json"))["options"]["engine"];
+  EXPECT_EQ(engine["backend"], "scalar");
+  EXPECT_FALSE(engine["cluster_culling"].get<bool>());
+  EXPECT_FALSE(engine["batched_setup"].get<bool>());
+  EXPECT_FALSE(engine["lod_unbiased"].get<bool>());
+  fs::remove(dir / "r.csv");
+  for (const auto& [args, field] : std::vector<std::pair<std::string, std::string>>{
+           {" --engine scalar --cluster-culling", "engine.cluster_culling"},
+           {" --engine float-simd --batched-setup", "engine.batched_setup"},
+           {" --lod-px 0 --lod-unbiased", "engine.lod_unbiased"}}) {
+    const CliResult r = RunCli(base + args, dir);
+    EXPECT_EQ(r.exit_code, 1) << args;
+    EXPECT_NE(r.err.find(field), std::string::npos) << args << ": " << r.err;
+    EXPECT_FALSE(fs::exists(dir / "r.csv")) << args;
   }
 }
 

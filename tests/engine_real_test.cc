@@ -11,16 +11,20 @@
 
 #include <gtest/gtest.h>
 
+#include "backends/backend.h"
 #include "core/parallel_for.h"
+#include "engine/box_scorer.h"
+#include "engine/context.h"
 #include "engine/initialize.h"
-#include "render/raster_fixed.h"
 #include "engine/raster_cores.h"
+#include "render/raster_fixed.h"
 #include "mcpose/dataset.h"
 #include "mcpose/estimator.h"
 #include "mcpose/eval.h"
 #include "render/clusters.h"
 #include "render/lod.h"
 #include "render/raster.h"
+#include "score/box_depth.h"
 #include "score/inlier.h"
 #include "raster_test_util.h"
 #include "test_data.h"
@@ -33,7 +37,7 @@ struct Rendered {
   score::InlierCounts counts;
 };
 
-Rendered RenderInBox(const Mesh& mesh, const SE3& T, const Intrinsics& K, const engine::BoxDepth& box) {
+Rendered RenderInBox(const Mesh& mesh, const SE3& T, const Intrinsics& K, const score::BoxDepth& box) {
   render::RasterParams p;
   p.fx = K.fx, p.fy = K.fy, p.cx = K.cx, p.cy = K.cy;
   p.box = box.rect;
@@ -68,7 +72,7 @@ TEST(LodRealData, ChainShrinksAndChosenLevelRendersLikeTheFullMesh) {
     Detection d;
     ASSERT_GT(MaskBox(*mask, &d), 0);
     d.obj_id = gt.obj_id, d.score = 1;
-    const engine::BoxDepth box = engine::DistributeDepth(
+    const score::BoxDepth box = score::DistributeDepth(
         frame->depth, K, engine::ClipBox(d.x, d.y, d.w, d.h, K.width, K.height), 1.0, InlierMode::k1D);
     const double z = engine::InitialDepth(K, *mesh, d, box, 0.5);
     const int level = chain.Select(render::LodErrorBudgetM(1.0f, static_cast<float>(z),
@@ -121,22 +125,32 @@ void LoadObjectInFrame(FrameKey key, int obj_id, ObjectInFrame* out) {
   out->mesh = std::move(mesh).value();
 }
 
-// A score job whose boxes all render one LOD level of `full`, with the level's clusters when
-// `clusters` (job.box_clusters can be set later from box_clusters).
-struct LevelJob {
-  LevelJob(const Mesh& full, const render::LodLevel& level, const Intrinsics& K,
-           std::span<const engine::BoxDepth> boxes, bool clusters)
-      : box_mesh{&level.mesh}, box_clusters{&level.clusters} {
-    job.mesh = &full;
-    job.box_mesh = box_mesh;
-    if (clusters) job.box_clusters = box_clusters;
-    job.K = K;
-    job.boxes = boxes;
+// Samples drawn as the estimator draws them for box `d` of `o` (default options otherwise).
+filter::ParticleSet Samples(const ObjectInFrame& o, const Detection& d, int samples, uint64_t stream) {
+  EstimatorOptions opt;
+  opt.samples = samples;
+  engine::Context context(opt);
+  auto scorer = engine::BoxScorer::Create(context, o.frame->K, o.frame->depth, *o.mesh, std::span(&d, 1));
+  EXPECT_TRUE(scorer.ok()) << scorer.status().ToString();
+  filter::ParticleSet particles;
+  engine::InitializeSamples(**scorer, opt, stream, &particles);
+  return particles;
+}
+
+// The raster cores' input when every box renders one mesh (a LOD level), with or without its
+// culling clusters.
+struct LevelTargets {
+  LevelTargets(const render::LodLevel& level, std::span<const score::BoxDepth> boxes, bool clusters) {
+    for (const score::BoxDepth& b : boxes) targets.push_back({&b, &level.mesh, clusters ? &level.clusters : nullptr});
   }
-  LevelJob(const LevelJob&) = delete;  // job points into the arrays
-  const Mesh* box_mesh[1];
-  const render::ClusterSet* box_clusters[1];
-  engine::ScoreJob job;
+  LevelTargets(const Mesh& mesh, std::span<const score::BoxDepth> boxes) {
+    for (const score::BoxDepth& b : boxes) targets.push_back({&b, &mesh, nullptr});
+  }
+  void SetClusters(const render::ClusterSet* clusters) {
+    for (auto& t : targets) t.clusters = clusters;
+  }
+  std::vector<backends::BoxTarget> targets;
+  backends::SampleSettings settings;
 };
 
 TEST(RasterCoresRealData, CountsEqualAWholeBoxRenderForEveryBackendAndLod) {
@@ -146,24 +160,20 @@ TEST(RasterCoresRealData, CountsEqualAWholeBoxRenderForEveryBackendAndLod) {
   const auto& mesh = o.mesh;
   const Intrinsics& K = frame->K;
   const Detection& d = o.box;
-  std::vector<engine::BoxDepth> boxes;
-  boxes.push_back(engine::DistributeDepth(frame->depth, K, engine::ClipBox(d.x, d.y, d.w, d.h, K.width, K.height),
+  std::vector<score::BoxDepth> boxes;
+  boxes.push_back(score::DistributeDepth(frame->depth, K, engine::ClipBox(d.x, d.y, d.w, d.h, K.width, K.height),
                                           1.0, InlierMode::k1D));
-  EstimatorOptions opt;
-  opt.samples = 200;
-  filter::ParticleSet particles;
-  engine::InitializeSamples(K, *mesh, std::span(&d, 1), boxes, opt, 7, &particles);
+  const filter::ParticleSet particles = Samples(o, d, 200, 7);
   const render::LodChain chain = render::LodChain::Build(*mesh);
 
   for (RasterBackend backend :
        {RasterBackend::kScalar, RasterBackend::kFixedPoint, RasterBackend::kSimd, RasterBackend::kFloatSimd}) {
     for (int level : {0, chain.num_levels() - 1}) {
-      const LevelJob level_job(*mesh, chain.level(level), K, boxes, /*clusters=*/false);
-      const engine::ScoreJob& job = level_job.job;
+      const LevelTargets job(chain.level(level), boxes, /*clusters=*/false);
       engine::RasterCores cores(2, backend);
       std::vector<score::InlierCounts> counts(particles.size());
       render::RasterStats stats;
-      cores.Score(job, particles, counts, &stats);
+      cores.Score(job.targets, job.settings, particles, counts, &stats);
       EXPECT_GT(stats.fragments, 0);
 
       // Whole-box reference: clear the box, render, count over the box.
@@ -181,7 +191,7 @@ TEST(RasterCoresRealData, CountsEqualAWholeBoxRenderForEveryBackendAndLod) {
         } else {
           render::RasterizeDepthFixedPoint(sv, m.triangles, p, z.data(), nullptr);
         }
-        ASSERT_EQ(counts[i], score::CountInliers1D(z, boxes[0].observed, job.eps_m))
+        ASSERT_EQ(counts[i], score::CountInliers1D(z, boxes[0].observed, job.settings.eps_m))
             << RasterBackendName(backend) << " level " << level << " sample " << i;
       }
     }
@@ -200,26 +210,20 @@ TEST(RasterCoresRealData, StrideTwoGridMatchesTheFullRenderAtTheGridPixels) {
   const Intrinsics& K = frame->K;
   const Detection& d = o.box;
   const render::PixelRect rect = engine::ClipBox(d.x, d.y, d.w, d.h, K.width, K.height);
-  std::vector<engine::BoxDepth> grid, full;
-  grid.push_back(engine::DistributeDepth(frame->depth, K, rect, 1.0, InlierMode::k1D, 2));
-  full.push_back(engine::DistributeDepth(frame->depth, K, rect, 1.0, InlierMode::k1D, 1));
+  std::vector<score::BoxDepth> grid, full;
+  grid.push_back(score::DistributeDepth(frame->depth, K, rect, 1.0, InlierMode::k1D, 2));
+  full.push_back(score::DistributeDepth(frame->depth, K, rect, 1.0, InlierMode::k1D, 1));
   EXPECT_EQ(grid[0].rect.width(), (rect.width() + 1) / 2);
   EXPECT_EQ(grid[0].rect.height(), (rect.height() + 1) / 2);
   for (int j = 0; j < grid[0].rect.height(); ++j)
     for (int i = 0; i < grid[0].rect.width(); ++i)
       ASSERT_EQ(grid[0].observed[j * grid[0].rect.width() + i], full[0].observed[2 * j * rect.width() + 2 * i]);
-  EstimatorOptions opt;
-  opt.samples = 100;
-  filter::ParticleSet particles;
-  engine::InitializeSamples(K, *mesh, std::span(&d, 1), full, opt, 7, &particles);
+  const filter::ParticleSet particles = Samples(o, d, 100, 7);
   for (RasterBackend backend : {RasterBackend::kScalar, RasterBackend::kSimd}) {
-    engine::ScoreJob job;
-    job.mesh = &*mesh;
-    job.K = K;
-    job.boxes = grid;
+    const LevelTargets job(*mesh, grid);
     engine::RasterCores cores(2, backend);
     std::vector<score::InlierCounts> counts(particles.size());
-    cores.Score(job, particles, counts, nullptr);
+    cores.Score(job.targets, job.settings, particles, counts, nullptr);
     int64_t rendered = 0, diff_rendered = 0, diff_inliers = 0;
     for (size_t i = 0; i < particles.size(); ++i) {
       const Rendered r = RenderInBox(*mesh, particles.Pose(i), K, full[0]);
@@ -255,24 +259,20 @@ TEST(RasterCoresRealData, ClusterCullingGivesTheSameCounts) {
     const Intrinsics& K = o.frame->K;
     const Detection& d = o.box;
     for (int stride : {1, 2}) {
-      std::vector<engine::BoxDepth> boxes;
-      boxes.push_back(engine::DistributeDepth(o.frame->depth, K, engine::ClipBox(d.x, d.y, d.w, d.h, K.width, K.height),
+      std::vector<score::BoxDepth> boxes;
+      boxes.push_back(score::DistributeDepth(o.frame->depth, K, engine::ClipBox(d.x, d.y, d.w, d.h, K.width, K.height),
                                               1.0, InlierMode::k1D, stride));
-      EstimatorOptions opt;
-      opt.samples = 300;
-      filter::ParticleSet particles;
-      engine::InitializeSamples(K, *o.mesh, std::span(&d, 1), boxes, opt, 11, &particles);
+      const filter::ParticleSet particles = Samples(o, d, 300, 11);
       const render::LodChain chain = render::LodChain::Build(*o.mesh);
       for (RasterBackend backend : {RasterBackend::kFixedPoint, RasterBackend::kSimd}) {
         for (int level = 0; level < chain.num_levels(); ++level) {
-          LevelJob level_job(*o.mesh, chain.level(level), K, boxes, /*clusters=*/false);
-          engine::ScoreJob& job = level_job.job;
+          LevelTargets job(chain.level(level), boxes, /*clusters=*/false);
           engine::RasterCores cores(2, backend);
           std::vector<score::InlierCounts> plain(particles.size()), clustered(particles.size());
           render::RasterStats plain_stats, clustered_stats;
-          cores.Score(job, particles, plain, &plain_stats);
-          job.box_clusters = level_job.box_clusters;
-          cores.Score(job, particles, clustered, &clustered_stats);
+          cores.Score(job.targets, job.settings, particles, plain, &plain_stats);
+          job.SetClusters(&chain.level(level).clusters);
+          cores.Score(job.targets, job.settings, particles, clustered, &clustered_stats);
           EXPECT_EQ(clustered, plain) << "obj " << obj_id << " stride " << stride << " level " << level;
           EXPECT_GT(clustered_stats.clusters, 0);
           EXPECT_LE(std::abs(clustered_stats.fragments - plain_stats.fragments), 1e-5 * plain_stats.fragments);
@@ -280,21 +280,21 @@ TEST(RasterCoresRealData, ClusterCullingGivesTheSameCounts) {
           EXPECT_EQ(clustered_stats.triangles, plain_stats.triangles);
           dropped_clusters += clustered_stats.clusters_culled_backface + clustered_stats.clusters_culled_outside_box;
           // Batched setup (the default above) against the per-triangle setup: identical.
-          job.batched_setup = false;
+          job.settings.batched_setup = false;
           std::vector<score::InlierCounts> per_triangle(particles.size());
           render::RasterStats per_triangle_stats;
-          cores.Score(job, particles, per_triangle, &per_triangle_stats);
+          cores.Score(job.targets, job.settings, particles, per_triangle, &per_triangle_stats);
           EXPECT_EQ(per_triangle, clustered) << "obj " << obj_id << " stride " << stride << " level " << level;
           EXPECT_EQ(per_triangle_stats, clustered_stats) << "obj " << obj_id << " level " << level;
           // Back faces rasterized: only clusters outside the box are dropped (exact), so the
           // same counts and fragments as the per-triangle path.
           if (level + 1 == chain.num_levels()) {
-            job.batched_setup = true, job.cull_backfaces = false;
+            job.settings.batched_setup = true, job.settings.cull_backfaces = false;
             std::vector<score::InlierCounts> both_plain(particles.size()), both_clustered(particles.size());
             render::RasterStats both_plain_stats, both_clustered_stats;
-            cores.Score(job, particles, both_clustered, &both_clustered_stats);
-            job.box_clusters = {};
-            cores.Score(job, particles, both_plain, &both_plain_stats);
+            cores.Score(job.targets, job.settings, particles, both_clustered, &both_clustered_stats);
+            job.SetClusters(nullptr);
+            cores.Score(job.targets, job.settings, particles, both_plain, &both_plain_stats);
             EXPECT_EQ(both_clustered, both_plain) << "obj " << obj_id << " stride " << stride;
             EXPECT_EQ(both_clustered_stats.clusters_culled_backface, 0);
             EXPECT_EQ(both_clustered_stats.culled_backface, 0);
@@ -320,13 +320,13 @@ TEST(LodRealData, LevelIsChosenInImagePixelsAtAnyStride) {
   EstimatorOptions opt;
   int first = -1;
   for (int stride : {1, 2, 3}) {
-    const engine::BoxDepth box = engine::DistributeDepth(
+    const score::BoxDepth box = score::DistributeDepth(
         o.frame->depth, K, engine::ClipBox(d.x, d.y, d.w, d.h, K.width, K.height), 1.0, InlierMode::k1D, stride);
     const int level = engine::SelectLodLevel(chain, K, *o.mesh, d, box, opt);
     if (first < 0) first = level;
     EXPECT_EQ(level, first) << "stride " << stride;
-    const double z = engine::InitialDepth(K, *o.mesh, d, box, opt.init_depth_quantile);
-    const double budget_m = opt.lod_error_px * z / std::min(K.fx, K.fy);
+    const double z = engine::InitialDepth(K, *o.mesh, d, box, opt.init.depth_quantile);
+    const double budget_m = opt.engine.lod_error_px * z / std::min(K.fx, K.fy);
     EXPECT_GT(level, 0);
     EXPECT_LE(chain.level(level).error_m, budget_m);
     if (level + 1 < chain.num_levels()) { EXPECT_GT(chain.level(level + 1).error_m, budget_m); }
@@ -347,21 +347,17 @@ TEST(RasterCoresRealData, NarrowBoxesCountAsTheFixedPointCore) {
     for (int width = 1; width <= 20; ++width) {
       Detection d = o.box;
       d.x += 0.5 * (d.w - width), d.w = width;  // a strip through the middle of the object
-      std::vector<engine::BoxDepth> boxes;
-      boxes.push_back(engine::DistributeDepth(o.frame->depth, K,
+      std::vector<score::BoxDepth> boxes;
+      boxes.push_back(score::DistributeDepth(o.frame->depth, K,
                                               engine::ClipBox(d.x, d.y, d.w, d.h, K.width, K.height), 1.0,
                                               InlierMode::k1D, stride));
-      EstimatorOptions opt;
-      opt.samples = 100;
-      filter::ParticleSet particles;
-      engine::InitializeSamples(K, *o.mesh, std::span(&d, 1), boxes, opt, 13, &particles);
-      const int level = engine::SelectLodLevel(chain, K, *o.mesh, d, boxes[0], opt);
-      const LevelJob level_job(*o.mesh, chain.level(level), K, boxes, /*clusters=*/true);
-      const engine::ScoreJob& job = level_job.job;
+      const filter::ParticleSet particles = Samples(o, d, 100, 13);
+      const int level = engine::SelectLodLevel(chain, K, *o.mesh, d, boxes[0], EstimatorOptions{});
+      const LevelTargets job(chain.level(level), boxes, /*clusters=*/true);
       std::vector<score::InlierCounts> fixed(particles.size()), simd(particles.size());
       render::RasterStats fixed_stats, simd_stats;
-      engine::RasterCores(1, RasterBackend::kFixedPoint).Score(job, particles, fixed, &fixed_stats);
-      engine::RasterCores(2, RasterBackend::kSimd).Score(job, particles, simd, &simd_stats);
+      engine::RasterCores(1, RasterBackend::kFixedPoint).Score(job.targets, job.settings, particles, fixed, &fixed_stats);
+      engine::RasterCores(2, RasterBackend::kSimd).Score(job.targets, job.settings, particles, simd, &simd_stats);
       ASSERT_EQ(simd, fixed) << "stride " << stride << " width " << width;
       EXPECT_EQ(simd_stats, fixed_stats) << "stride " << stride << " width " << width;
       fragments += simd_stats.fragments;
@@ -388,7 +384,7 @@ TEST(RasterCores, ClipBoxKeepsEveryBoxInsideTheImage) {
 }
 
 TEST(RasterCores, BoxStrideKeepsTheGridWithinItsBudget) {
-  EstimatorOptions o;
+  EngineOptions o;
   o.pixel_stride = 2;
   o.max_grid_pixels = 6000;
   EXPECT_EQ(engine::BoxStride(render::PixelRect{0, 0, 100, 100}, o), 2);  // 2 500 grid pixels
@@ -443,7 +439,7 @@ TEST(EstimatorRealData, PreparedMeshesGiveTheSameEstimates) {
   EstimatorOptions opt;
   opt.samples = 96;
   opt.max_iterations = 4;
-  opt.threads = 2;
+  opt.engine.threads = 2;
   auto prepared = std::move(Estimator::Create(opt)).value();
   auto lazy = std::move(Estimator::Create(opt)).value();
   const Mesh* meshes[] = {&*mustard.mesh, &*banana.mesh, &*mustard.mesh};  // a repeat is built once
@@ -457,7 +453,9 @@ TEST(EstimatorRealData, PreparedMeshesGiveTheSameEstimates) {
     EXPECT_LT(a->box_triangles[0], static_cast<int>(o->mesh->triangles.size()));  // a coarser level
     EXPECT_EQ(a->T_cam_obj.R, b->T_cam_obj.R);
     EXPECT_EQ(a->T_cam_obj.t, b->T_cam_obj.t);
-    EXPECT_EQ(a->mean_weight_history, b->mean_weight_history);
+    ASSERT_EQ(a->iterations.size(), b->iterations.size());
+    for (size_t i = 0; i < a->iterations.size(); ++i)
+      EXPECT_EQ(a->iterations[i].mean_weight, b->iterations[i].mean_weight);
   }
 }
 

@@ -9,9 +9,10 @@
 #include <gtest/gtest.h>
 
 #include "analysis/depth_ambiguity.h"
+#include "engine/box_scorer.h"
+#include "engine/context.h"
 #include "engine/initialize.h"
 #include "engine/pipeline.h"
-#include "engine/raster_cores.h"
 #include "mcpose/dataset.h"
 #include "mcpose/eval.h"
 #include "render/raster.h"
@@ -107,10 +108,9 @@ INSTANTIATE_TEST_SUITE_P(RealFrames, GroundTruthRender,
 TEST(RealData, GroundTruthPoseScoresInTopOnePercentOfRandomSamples) {
   auto ds = OpenYcbv();
   ASSERT_TRUE(ds);
-  EstimatorOptions options;
-  options.samples = 620;
-  options.threads = 2;
-  engine::RasterCores cores(options.threads, options.backend);
+  EstimatorOptions options;  // the estimator's defaults: its engine, LOD, stride and weight
+  options.engine.threads = 2;
+  engine::Context context(options);
   int objects = 0;
   for (FrameKey key : {FrameKey{49, 1}, FrameKey{2, 1}}) {
     auto frame = ds->LoadFrame(key);
@@ -121,28 +121,19 @@ TEST(RealData, GroundTruthPoseScoresInTopOnePercentOfRandomSamples) {
       ASSERT_TRUE(mask.ok() && mesh.ok());
       Detection det{key.scene_id, key.image_id, gt.obj_id, 1.0};
       if (MaskBox(*mask, &det) == 0) continue;  // out of view
-      std::vector<engine::BoxDepth> boxes;
-      boxes.push_back(engine::DistributeDepth(
-          frame->depth, frame->K, engine::ClipBox(det.x, det.y, det.w, det.h, 640, 480), 1.0, InlierMode::k1D));
-
+      auto scorer = engine::BoxScorer::Create(context, frame->K, frame->depth, *mesh, std::span(&det, 1));
+      ASSERT_TRUE(scorer.ok()) << scorer.status().ToString();
       filter::ParticleSet particles;
-      engine::InitializeSamples(frame->K, *mesh, std::span(&det, 1), boxes, options, 99, &particles);
+      engine::InitializeSamples(**scorer, options, 99, &particles);
       // Append the ground-truth pose as the last sample.
       const size_t n = particles.size();
       particles.R_cam_obj.push_back(gt.T_cam_obj.R);
       particles.t_cam_obj_m.push_back(gt.T_cam_obj.t);
       particles.box.push_back(0);
       particles.weight.push_back(0);
-      std::vector<score::InlierCounts> counts(n + 1);
-      engine::ScoreJob job;
-      job.mesh = &*mesh;
-      job.K = frame->K;
-      job.boxes = boxes;
-      cores.Score(job, particles, counts, nullptr);
-      std::vector<double> w;
-      for (const auto& c : counts)
-        w.push_back(score::Weight(c, 1.0, options.weight_a, options.weight_b, options.weight_c,
-                                  options.occlusion_aware));
+      EngineCounters counters;
+      (*scorer)->Weigh(&particles, &counters);
+      const std::vector<double>& w = particles.weight;
       const double w_gt = w.back();
       const int better = static_cast<int>(std::count_if(w.begin(), w.end() - 1, [&](double x) { return x > w_gt; }));
       EXPECT_LE(better, static_cast<int>(0.01 * n)) << "obj " << gt.obj_id << " in " << key.scene_id << "/"
@@ -174,7 +165,7 @@ TEST(RealData, EstimationOnTwoFramesMeetsAccuracyBound) {
   ASSERT_FALSE(dets.empty());
 
   EstimatorOptions options;  // defaults: 620 samples, <= 50 iterations
-  options.threads = 2;
+  options.engine.threads = 2;
   auto report = RunEstimation(*ds, dets, "test detections", options, nullptr);
   ASSERT_TRUE(report.ok()) << report.status().ToString();
   auto eval = Evaluate(*ds, report->results, &dets, EvalOptions{});

@@ -5,7 +5,9 @@
 #include <nlohmann/json.hpp>
 
 #include "bench/bench.h"
+#include "cli/common.h"
 #include "commands.h"
+#include "io/options_json.h"
 #include "mcpose/dataset.h"
 
 namespace mcpose::cli {
@@ -13,9 +15,10 @@ namespace mcpose::cli {
 namespace {
 
 struct BenchArgs {
-  std::string dataset, split = "test", json, engine = "simd", baselines, simd_target;
+  std::string dataset, split = "test", json, baselines;
   std::vector<int> objects;
   bench::BenchOptions options;
+  EstimatorFlags flags;
 };
 
 nlohmann::json ObjectJson(const bench::BenchObject& r) {
@@ -27,7 +30,7 @@ nlohmann::json ObjectJson(const bench::BenchObject& r) {
       {"bbox", {r.box.x, r.box.y, r.box.w, r.box.h}},
       {"samples", r.samples},
       {"threads", r.threads},
-      {"iterations", r.iterations},
+      {"iterations", r.per_iteration.size()},
       {"triangles_full", r.triangles_full},
       {"triangles_lod", r.triangles_lod},
       {"lod_deviation_mm", r.lod_deviation_mm},
@@ -48,14 +51,16 @@ nlohmann::json ObjectJson(const bench::BenchObject& r) {
       {"cdf_reads_per_draw_naive", r.cdf_reads_per_draw_naive},
       {"depth_bytes_read", r.depth_bytes_read},
       {"depth_bytes_read_naive", r.depth_bytes_read_naive},
-      {"counters", CountersJson(r.counters)},
-      {"per_iteration",
-       {{"full_ms", r.iteration_ms},
-        {"render_inlier_ms", r.score_ms},
-        {"fragments", r.fragments_per_iteration_series},
-        {"depth_bytes_read", r.depth_bytes_per_iteration},
-        {"mean_weight", r.mean_weight_history}}},
+      {"counters", io::CountersToJson(r.counters)},
   };
+  nlohmann::json full_ms = nlohmann::json::array(), score_ms = nlohmann::json::array(),
+                 fragments = nlohmann::json::array(), mean_weight = nlohmann::json::array();
+  for (const IterationSummary& it : r.per_iteration) {
+    full_ms.push_back(it.iteration_ms), score_ms.push_back(it.score_ms);
+    fragments.push_back(it.counters.fragments), mean_weight.push_back(it.mean_weight);
+  }
+  j["per_iteration"] = {
+      {"full_ms", full_ms}, {"render_inlier_ms", score_ms}, {"fragments", fragments}, {"mean_weight", mean_weight}};
   // The flat fields; null when the baseline was not run.
   j["embree_ms_median"] = nullptr, j["speedup_embree"] = nullptr;
   j["osmesa_ms_median"] = nullptr, j["speedup_osmesa"] = nullptr;
@@ -75,10 +80,9 @@ nlohmann::json ObjectJson(const bench::BenchObject& r) {
 }
 
 Status RunBenchCommand(BenchArgs& a) {
-  EstimatorOptions& o = a.options.estimator;
-  if (!ParseRasterBackend(a.engine, &o.backend))
-    return InvalidArgument(std::string("--engine must be ") + kRasterBackendChoices + ", got '" + a.engine + "'");
-  MCPOSE_RETURN_IF_ERROR(ApplySimdTarget(a.simd_target));
+  MCPOSE_RETURN_IF_ERROR(a.flags.Finish());
+  a.options.estimator = a.flags.options;
+  const EstimatorOptions& o = a.options.estimator;
   a.options.obj_ids = a.objects;
   a.options.baselines.clear();
   std::stringstream ss(a.baselines);
@@ -96,8 +100,8 @@ Status RunBenchCommand(BenchArgs& a) {
       header_printed = true;
       std::printf("machine: %s\nengine %s (SIMD target %s), LOD %.2f px, pixel stride %d, %d samples, "
                   "%d iterations, threads %d\n",
-                  machine.c_str(), RasterBackendName(o.backend), ActiveSimdTarget().c_str(), o.lod_error_px,
-                  o.pixel_stride, o.samples, a.options.iterations, o.threads);
+                  machine.c_str(), RasterBackendName(o.engine.backend), ActiveSimdTarget().c_str(),
+                  o.engine.lod_error_px, o.engine.pixel_stride, o.samples, a.options.iterations, o.engine.threads);
       std::printf("%-20s %6s %5s %8s %9s | %8s %17s | %8s %17s %9s | %s\n", "object", "tris", "lod", "culled",
                   "frags/it", "r+i ms", "(min-max)", "full ms", "(min-max)", "hyp/s",
                   "baselines (ms, x, inlier diff)");
@@ -127,25 +131,15 @@ Status RunBenchCommand(BenchArgs& a) {
   if (!a.json.empty()) {
     nlohmann::json arr = nlohmann::json::array();
     for (const auto& r : objects) arr.push_back(ObjectJson(r));
+    nlohmann::json options = io::OptionsToJson(o);
+    options["engine"]["simd_target"] = ActiveSimdTarget();
+    options["iterations"] = a.options.iterations;
+    options["render_repeats"] = a.options.render_repeats;
     nlohmann::json doc = {{"machine",
                            {{"cpu", machine},
                             {"simd_targets", SimdTargets()},
-                            {"threads", objects.empty() ? o.threads : objects[0].threads}}},
-                          {"options",
-                           {{"engine", RasterBackendName(o.backend)},
-                            {"lod_px", o.lod_error_px},
-                            {"lod_unbiased", o.lod_unbiased},
-                            {"pixel_stride", o.pixel_stride},
-                            {"max_grid_pixels", o.max_grid_pixels},
-                            {"backface_culling", o.backface_culling},
-                            {"cluster_culling", o.cluster_culling},
-                            {"batched_setup", o.batched_setup},
-                            {"simd_target", ActiveSimdTarget()},
-                            {"samples", o.samples},
-                            {"iterations", a.options.iterations},
-                            {"render_repeats", a.options.render_repeats},
-                            {"eps_m", o.eps_m},
-                            {"seed", o.seed}}},
+                            {"threads", objects.empty() ? o.engine.threads : objects[0].threads}}},
+                          {"options", options},
                           {"objects", arr}};
     MCPOSE_RETURN_IF_ERROR(WriteFileAtomically(a.json, doc.dump(1) + "\n"));
   }
@@ -156,30 +150,16 @@ Status RunBenchCommand(BenchArgs& a) {
 
 void AddBenchCommand(CLI::App& app, Status* status) {
   auto args = std::make_shared<BenchArgs>();
-  EstimatorOptions& o = args->options.estimator;
   CLI::App* cmd = app.add_subcommand(
       "bench", "Time one Monte-Carlo iteration per object on real frames (ground-truth boxes), with baselines");
   cmd->add_option("--dataset", args->dataset, "Dataset root (YCB-Video native or BOP layout)")->required();
   cmd->add_option("--split", args->split, "BOP split folder")->capture_default_str();
   cmd->add_option("--objects", args->objects, "obj_ids (default: the paper's five: 2 4 5 9 10)")->delimiter(',');
-  cmd->add_option("--samples", o.samples, "Samples per object")->capture_default_str();
   cmd->add_option("--iterations", args->options.iterations, "Full iterations timed per object")->capture_default_str();
-  cmd->add_option("--repeats", args->options.render_repeats, "Rounds of render + inlier on the initial hypotheses: each times every baseline once and mcpose about as long")->capture_default_str();
-  cmd->add_option("--threads", o.threads, "Raster cores (worker threads); 0 = all hardware threads")->capture_default_str();
-  cmd->add_option("--engine", args->engine, "Raster core: scalar, fixed, simd or float-simd")->capture_default_str();
-  cmd->add_option("--lod-px", o.lod_error_px, "Level-of-detail budget: measured deviation in image pixels at the box depth; 0 = full mesh")->capture_default_str();
-  cmd->add_flag("--lod-unbiased,!--no-lod-unbiased", o.lod_unbiased,
-                "LOD levels' vertices moved so that the full surface lies on each level on average (default on)");
-  cmd->add_option("--pixel-stride", o.pixel_stride, "Score every s-th pixel in x and y of each box")->capture_default_str();
-  cmd->add_option("--max-grid-pixels", o.max_grid_pixels, "Coarser stride for boxes with more grid pixels; 0 = none")->capture_default_str();
-  cmd->add_flag("--backface-culling,!--no-backface-culling", o.backface_culling,
-                "Cull back-facing triangles, in mcpose and in the baselines (default on)");
-  cmd->add_flag("--cluster-culling,!--no-cluster-culling", o.cluster_culling,
-                "Drop whole triangle clusters outside the box or (with back-face culling) facing away before setup (default on)");
-  cmd->add_flag("--batched-setup,!--no-batched-setup", o.batched_setup,
-                "Classify and set up triangles a SIMD vector at a time (default on)");
-  AddSimdTargetOption(cmd, &args->simd_target);
-  cmd->add_option("--seed", o.seed, "Random seed")->capture_default_str();
+  cmd->add_option("--repeats", args->options.render_repeats,
+                  "Rounds of render + inlier on the initial hypotheses: each times every baseline once and mcpose "
+                  "about as long")->capture_default_str();
+  AddEstimatorFlags(cmd, kSamplingFlags | kWeightFlags | kSearchFlags | kEngineFlags, &args->flags);
   cmd->add_option("--baselines", args->baselines, "Comma-separated: embree,osmesa (same hypotheses, same boxes)");
   cmd->add_option("--json", args->json, "Write {machine, options, objects: [...]} here");
   cmd->callback([args, status] { *status = RunBenchCommand(*args); });

@@ -4,6 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli/common.h"
 #include "commands.h"
 #include "mcpose/dataset.h"
 #include "mcpose/detection.h"

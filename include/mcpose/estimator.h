@@ -16,43 +16,52 @@
 
 namespace mcpose {
 
-// Engine counters of one object's run, summed over iterations.
+// What the engine did: each triangle's fate in the raster cores and the resampler's reads.
+// Every triangle submitted has exactly one fate: culled for one reason, or rasterized.
 struct EngineCounters {
-  int64_t triangles_full = 0;          // triangles of the full mesh, per sample render
+  int64_t triangles_full = 0;          // triangles the full mesh would have submitted
   int64_t triangles_in = 0;            // triangles submitted (after the LOD choice)
   int64_t culled_backface = 0;
   int64_t culled_degenerate = 0;
-  int64_t culled_outside_box = 0;      // bounding box misses the sample's box
+  int64_t culled_outside_box = 0;      // misses the sample's box
   int64_t culled_near = 0;             // a vertex behind the near plane
   int64_t culled_between_pixels = 0;   // covers no pixel centre
   int64_t triangles_rasterized = 0;    // covered at least one pixel centre
   int64_t fragments = 0;               // pixel centres covered (before the depth test)
   int64_t clusters = 0;                // culling clusters tested (cluster_culling)
-  int64_t clusters_culled_backface = 0;    // dropped whole: facing away
-  int64_t clusters_culled_outside_box = 0; // dropped whole: outside the box
-  int64_t cdf_draws = 0;
-  int64_t cdf_reads = 0;               // CDF entries read with the coarse table + fine search
-  int64_t cdf_reads_naive = 0;         // entries a linear search from the start would read
-  int64_t depth_bytes_read = 0;        // observed depth bytes read by the depth distributor
-  int64_t depth_bytes_read_naive = 0;  // bytes a per-sample copy of the box would read
+  int64_t clusters_culled_backface = 0;     // dropped whole: facing away
+  int64_t clusters_culled_outside_box = 0;  // dropped whole: outside the box
+  int64_t cdf_draws = 0;               // resampling draws
+  int64_t cdf_reads = 0;               // CDF and table entries those draws read
+
+  EngineCounters& operator+=(const EngineCounters& o);
+};
+
+// One iteration of the filter (one scored generation of samples).
+struct IterationSummary {
+  double mean_weight = 0;   // of this generation
+  double best_weight = 0;   // of this generation
+  double score_ms = 0;      // render + inlier counting on the raster cores, wall time
+  double iteration_ms = 0;  // the whole iteration: scoring, weights, resampling, diffusion
+  EngineCounters counters;  // this iteration's
 };
 
 struct ObjectEstimate {
   int obj_id = 0;
-  SE3 T_cam_obj;                  // the best-weighted sample ever seen
+  SE3 T_cam_obj;          // the best-weighted sample ever seen
   double best_weight = 0;
-  double final_mean_weight = 0;
-  int iterations = 0;             // iterations run (scored generations)
-  int best_box = -1;              // index into the boxes passed in
-  std::vector<double> mean_weight_history;  // one entry per iteration
+  int best_box = -1;      // index into the boxes passed in
+  std::vector<IterationSummary> iterations;  // one per scored generation, in order
   std::vector<int> box_triangles;  // triangles of the mesh (LOD level) each box renders
-  // Wall time of each iteration: render + inlier counting (the raster cores), and the whole
-  // iteration (raster cores + weights + resampling + diffusion), milliseconds.
-  std::vector<double> score_ms, iteration_ms;
-  // Per iteration: fragments rasterized and observed-depth bytes the distributor read.
-  std::vector<int64_t> fragments_per_iteration, depth_bytes_per_iteration;
-  EngineCounters counters;
+  int64_t depth_pixels_read = 0;   // observed depth pixels the depth distributor cut out
+
+  double final_mean_weight() const { return iterations.empty() ? 0 : iterations.back().mean_weight; }
+  EngineCounters Totals() const;  // the counters summed over the iterations
 };
+
+namespace engine {
+class Context;
+}
 
 class Estimator {
  public:
@@ -75,9 +84,8 @@ class Estimator {
   const EstimatorOptions& options() const;
 
  private:
-  struct Impl;
-  explicit Estimator(std::unique_ptr<Impl> impl);
-  std::unique_ptr<Impl> impl_;
+  explicit Estimator(std::unique_ptr<engine::Context> context);
+  std::unique_ptr<engine::Context> context_;
 };
 
 }  // namespace mcpose

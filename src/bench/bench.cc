@@ -8,12 +8,15 @@
 #include <thread>
 
 #include "baselines/depth_baseline.h"
+#include "bench/naive_cdf.h"
 #include "core/parallel_for.h"
-#include "mcpose/eval.h"
+#include "core/rng.h"
+#include "engine/box_scorer.h"
+#include "engine/context.h"
+#include "engine/filter_loop.h"
 #include "engine/initialize.h"
 #include "engine/pipeline.h"
-#include "engine/raster_cores.h"
-#include "render/lod.h"
+#include "mcpose/eval.h"
 #include "score/inlier.h"
 
 namespace mcpose::bench {
@@ -21,6 +24,9 @@ namespace mcpose::bench {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// Substream of the naive resampler's draws (bench only).
+constexpr uint64_t kNaiveStream = 0x4A17E;
 
 double MsSince(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
@@ -111,10 +117,9 @@ StatusOr<std::vector<BenchObject>> RunBench(const Dataset& ds, const BenchOption
   std::string error;
   if (!eo.IsValid(&error)) return InvalidArgument("invalid options: " + error);
   // The baselines count 1-D inliers, and the boxes below are distributed for that test.
-  if (eo.inlier_mode != InlierMode::k1D)
+  if (eo.weight.inlier != InlierMode::k1D)
     return InvalidArgument("invalid options: the benchmark times the 1-D inlier test (inlier_mode 1d)");
-  MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<Estimator> estimator, Estimator::Create(eo));
-  engine::RasterCores cores(eo.threads, eo.backend);
+  engine::Context context(eo);
 
   std::vector<BenchObject> out;
   for (int obj_id : ids) {
@@ -127,64 +132,55 @@ StatusOr<std::vector<BenchObject>> RunBench(const Dataset& ds, const BenchOption
     MCPOSE_ASSIGN_OR_RETURN(Mesh mesh, ds.LoadMesh(obj_id));
     const Intrinsics& K = frame.K;
     r.samples = eo.samples;
-    r.threads = cores.threads();
+    r.threads = context.cores().threads();
+    MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<engine::BoxScorer> scorer,
+                            engine::BoxScorer::Create(context, K, frame.depth, mesh, std::span(&r.box, 1)));
+    const uint64_t stream_id = GroupStreamId(r.frame.scene_id, r.frame.image_id, obj_id);
 
-    // ---- Full iterations: the estimator itself ------------------------------------------
-    MCPOSE_ASSIGN_OR_RETURN(ObjectEstimate e, estimator->Estimate(K, frame.depth, mesh, std::span(&r.box, 1),
-                                                                  GroupStreamId(r.frame.scene_id, r.frame.image_id, obj_id)));
-    r.iterations = e.iterations;
-    r.counters = e.counters;
-    r.iteration_ms = e.iteration_ms;
-    r.score_ms = e.score_ms;
-    r.fragments_per_iteration_series = e.fragments_per_iteration;
-    r.depth_bytes_per_iteration = e.depth_bytes_per_iteration;
-    r.mean_weight_history = e.mean_weight_history;
-    const Stats3 full = Summarize(e.iteration_ms), score = Summarize(e.score_ms);
+    // ---- Full iterations: the estimator's filter loop ------------------------------------
+    // The naive resampler's reads for the same number of draws on each resampled generation.
+    int64_t naive_reads = 0;
+    NaiveCdf naive;
+    const auto observer = [&](int iter, const filter::ParticleSet& weighted) {
+      if (iter + 1 == eo.max_iterations) return;  // the last generation is not resampled
+      naive.Build(weighted.weight, eo.resample.keep_top_fraction);
+      for (size_t i = 0; i < weighted.size(); ++i)
+        naive_reads += naive.Reads(Rng(eo.seed, stream_id, kNaiveStream + static_cast<uint64_t>(iter), i).Uniform());
+    };
+    const ObjectEstimate e = engine::RunFilter(*scorer, eo, context.pool(), stream_id, observer);
+    r.per_iteration = e.iterations;
+    r.counters = e.Totals();
+    std::vector<double> iteration_ms, score_ms;
+    for (const IterationSummary& it : e.iterations) iteration_ms.push_back(it.iteration_ms), score_ms.push_back(it.score_ms);
+    const int iterations = static_cast<int>(e.iterations.size());
+    const Stats3 full = Summarize(iteration_ms), score = Summarize(score_ms);
     r.full_iteration_ms_median = full.median, r.full_iteration_ms_min = full.min, r.full_iteration_ms_max = full.max;
     r.render_inlier_ms_median = score.median, r.render_inlier_ms_min = score.min, r.render_inlier_ms_max = score.max;
     r.hypotheses_per_s = full.median > 0 ? 1000.0 * eo.samples / full.median : 0;
     r.triangles_full = static_cast<int>(mesh.triangles.size());
-    r.triangles_lod = e.box_triangles.empty() ? r.triangles_full : e.box_triangles[0];
-    const double renders = static_cast<double>(eo.samples) * e.iterations;
-    r.triangles_after_cull = e.counters.triangles_rasterized / renders;
-    r.fragments_per_iteration = static_cast<double>(e.counters.fragments) / e.iterations;
-    const EngineCounters& c = e.counters;
+    r.triangles_lod = e.box_triangles[0];
+    const double renders = static_cast<double>(eo.samples) * iterations;
+    r.triangles_after_cull = r.counters.triangles_rasterized / renders;
+    r.fragments_per_iteration = static_cast<double>(r.counters.fragments) / iterations;
+    const EngineCounters& c = r.counters;
     r.cdf_reads_per_draw = c.cdf_draws ? static_cast<double>(c.cdf_reads) / c.cdf_draws : 0;
-    r.cdf_reads_per_draw_naive = c.cdf_draws ? static_cast<double>(c.cdf_reads_naive) / c.cdf_draws : 0;
-    r.depth_bytes_read = c.depth_bytes_read, r.depth_bytes_read_naive = c.depth_bytes_read_naive;
+    r.cdf_reads_per_draw_naive = c.cdf_draws ? static_cast<double>(naive_reads) / c.cdf_draws : 0;
+    r.depth_bytes_read = e.depth_pixels_read * int64_t{sizeof(float)};
+    r.depth_bytes_read_naive = scorer->box_depth(0).rect.area() * int64_t{sizeof(float)} * eo.samples * iterations;
 
     // ---- Render + inlier on the initial hypotheses: mcpose and the baselines -------------
-    std::vector<engine::BoxDepth> boxes;
-    const render::PixelRect rect = engine::ClipBox(r.box.x, r.box.y, r.box.w, r.box.h, K.width, K.height);
-    boxes.push_back(engine::DistributeDepth(frame.depth, K, rect, 1.0, InlierMode::k1D, engine::BoxStride(rect, eo)));
     filter::ParticleSet particles;
-    engine::InitializeSamples(K, mesh, std::span(&r.box, 1), boxes, eo, GroupStreamId(r.frame.scene_id, r.frame.image_id, obj_id),
-                              &particles);
-    const render::LodChain lod = render::LodChain::Build(
-        mesh, eo.lod_unbiased ? render::LodVertices::kUnbiased : render::LodVertices::kKept);
-    const render::LodLevel& level = lod.level(engine::SelectLodLevel(lod, K, mesh, r.box, boxes[0], eo));
-    const Mesh& render_mesh = level.mesh;
-    r.lod_deviation_mm = 1000.0 * level.error_m;
-    r.lod_meshopt_error_mm = 1000.0 * level.meshopt_error_m;
-    const Mesh* box_mesh[1] = {&render_mesh};
-    const render::ClusterSet* box_clusters[1] = {&level.clusters};
-    engine::ScoreJob job;
-    job.mesh = &mesh;
-    job.box_mesh = box_mesh;
-    // As the estimator: clusters come with the LOD chain.
-    if (eo.cluster_culling && eo.lod_error_px > 0) job.box_clusters = box_clusters;
-    job.K = K;
-    job.boxes = boxes;
-    engine::SetEngineOptions(eo, &job);
+    engine::InitializeSamples(*scorer, eo, stream_id, &particles);
+    const render::LodLevel* level = scorer->box_level(0);
+    const Mesh& render_mesh = scorer->box_mesh(0);
+    r.lod_deviation_mm = level ? 1000.0 * level->error_m : 0.0;
+    r.lod_meshopt_error_mm = level ? 1000.0 * level->meshopt_error_m : 0.0;
+    const score::BoxDepth& box = scorer->box_depth(0);
     std::vector<score::InlierCounts> counts(particles.size());
+    const float eps_m = static_cast<float>(eo.weight.eps_m);
 
-    render::RasterParams params;
     // The box's sample grid (every pixel at stride 1): the baselines cast the same rays.
-    const Intrinsics& Kg = boxes[0].K_grid;
-    params.fx = static_cast<float>(Kg.fx), params.fy = static_cast<float>(Kg.fy);
-    params.cx = static_cast<float>(Kg.cx), params.cy = static_cast<float>(Kg.cy);
-    params.box = boxes[0].rect;
-    params.cull_backfaces = eo.backface_culling;
+    const render::RasterParams params = score::BoxRasterParams(box, eo.engine.backface_culling);
     struct Baseline {
       std::unique_ptr<baselines::DepthBaseline> renderer;
       std::vector<score::InlierCounts> counts;
@@ -196,7 +192,7 @@ StatusOr<std::vector<BenchObject>> RunBench(const Dataset& ds, const BenchOption
       Baseline b;
       MCPOSE_ASSIGN_OR_RETURN(b.renderer, baselines::CreateDepthBaseline(name, render_mesh, K.width, K.height));
       b.counts.resize(particles.size());
-      const int workers = b.renderer->thread_safe() ? cores.threads() : 1;
+      const int workers = b.renderer->thread_safe() ? context.cores().threads() : 1;
       b.zbuf.assign(static_cast<size_t>(workers), std::vector<float>(static_cast<size_t>(params.box.area())));
       bases.push_back(std::move(b));
     }
@@ -207,11 +203,11 @@ StatusOr<std::vector<BenchObject>> RunBench(const Dataset& ds, const BenchOption
         std::vector<float>& z = b.zbuf[static_cast<size_t>(worker)];
         b.renderer->Render(particles.R_cam_obj[i].cast<float>(), particles.t_cam_obj_m[i].cast<float>(), params,
                            z.data());
-        b.counts[i] = score::CountInliers1D(z, boxes[0].observed, job.eps_m);
+        b.counts[i] = score::CountInliers1D(z, box.observed, eps_m);
       };
       const auto t0 = Clock::now();
       if (b.zbuf.size() > 1) {
-        cores.pool().ParallelFor(static_cast<int64_t>(particles.size()), [&](int64_t begin, int64_t end, int w) {
+        context.pool().ParallelFor(static_cast<int64_t>(particles.size()), [&](int64_t begin, int64_t end, int w) {
           for (int64_t i = begin; i < end; ++i) render_one(i, w);
         });
       } else {
@@ -221,7 +217,8 @@ StatusOr<std::vector<BenchObject>> RunBench(const Dataset& ds, const BenchOption
     };
     const auto run_mcpose = [&] {
       const auto t0 = Clock::now();
-      cores.Score(job, particles, counts, nullptr);
+      EngineCounters ignored;
+      scorer->Count(particles, counts, &ignored);
       return MsSince(t0);
     };
     // One untimed run of each first (caches, thread wake-up, the baselines' first-use costs).

@@ -60,12 +60,13 @@ struct BenchObject {
   int mcpose_render_inlier_initial_runs = 0;   // timed runs behind that median
   std::vector<BaselineResult> baselines;
   EngineCounters counters;             // summed over the timed iterations
-  int iterations = 0;
+  std::vector<IterationSummary> per_iteration;
+  // Resampling: CDF reads per draw of the paper's table, and of a linear search of the
+  // unsorted CDF (bench/naive_cdf.h) for the same draws of every iteration.
   double cdf_reads_per_draw = 0, cdf_reads_per_draw_naive = 0;
-  int64_t depth_bytes_read = 0, depth_bytes_read_naive = 0;  // summed over iterations
-  std::vector<double> iteration_ms, score_ms;                // per iteration
-  std::vector<int64_t> fragments_per_iteration_series, depth_bytes_per_iteration;
-  std::vector<double> mean_weight_history;
+  // Observed depth read from the frame, bytes: by the depth distributor (each box cut out once
+  // per estimate), and by a per-sample copy of its box every iteration.
+  int64_t depth_bytes_read = 0, depth_bytes_read_naive = 0;
 };
 
 using BenchProgressFn = std::function<void(const BenchObject&)>;

@@ -7,6 +7,7 @@
 
 #include "core/check.h"
 #include "core/rng.h"
+#include "engine/box_scorer.h"
 
 namespace mcpose::engine {
 
@@ -28,7 +29,7 @@ double DepthQuantile(const std::vector<float>& observed, double q) {
 
 }  // namespace
 
-double InitialDepth(const Intrinsics& K, const Mesh& mesh, const Detection& d, const BoxDepth& box,
+double InitialDepth(const Intrinsics& K, const Mesh& mesh, const Detection& d, const score::BoxDepth& box,
                     double depth_quantile) {
   const Eigen::Vector3f size = mesh.BoundsMax() - mesh.BoundsMin();
   std::array<float, 3> sides = {size.x(), size.y(), size.z()};
@@ -39,55 +40,35 @@ double InitialDepth(const Intrinsics& K, const Mesh& mesh, const Detection& d, c
 }
 
 int SelectLodLevel(const render::LodChain& lod, const Intrinsics& K, const Mesh& mesh, const Detection& d,
-                   const BoxDepth& box, const EstimatorOptions& options) {
-  if (!(options.lod_error_px > 0)) return 0;
-  const double z = InitialDepth(K, mesh, d, box, options.init_depth_quantile);
-  return lod.Select(render::LodErrorBudgetM(static_cast<float>(options.lod_error_px), static_cast<float>(z),
+                   const score::BoxDepth& box, const EstimatorOptions& options) {
+  if (!(options.engine.lod_error_px > 0)) return 0;
+  const double z = InitialDepth(K, mesh, d, box, options.init.depth_quantile);
+  return lod.Select(render::LodErrorBudgetM(static_cast<float>(options.engine.lod_error_px), static_cast<float>(z),
                                             static_cast<float>(std::min(K.fx, K.fy))));
 }
 
-void ChooseBoxMeshes(const render::LodChain* lod, const Intrinsics& K, const Mesh& mesh,
-                     std::span<const Detection> boxes, std::span<const BoxDepth> box_depth,
-                     const EstimatorOptions& options, std::vector<const Mesh*>* box_mesh,
-                     std::vector<const render::ClusterSet*>* box_clusters) {
-  MCPOSE_CHECK_EQ(boxes.size(), box_depth.size());
-  box_mesh->clear();
-  box_clusters->clear();
-  if (!(options.lod_error_px > 0)) {
-    box_mesh->assign(boxes.size(), &mesh);
-    return;
-  }
-  MCPOSE_CHECK(lod != nullptr);
-  for (size_t b = 0; b < boxes.size(); ++b) {
-    const render::LodLevel& level = lod->level(SelectLodLevel(*lod, K, mesh, boxes[b], box_depth[b], options));
-    box_mesh->push_back(&level.mesh);
-    if (options.cluster_culling) box_clusters->push_back(&level.clusters);
-  }
-}
-
-void InitializeSamples(const Intrinsics& K, const Mesh& mesh, std::span<const Detection> boxes,
-                       std::span<const BoxDepth> box_depth, const EstimatorOptions& options,
-                       uint64_t stream_id, filter::ParticleSet* particles) {
-  MCPOSE_CHECK_EQ(boxes.size(), box_depth.size());
+void InitializeSamples(const BoxScorer& scorer, const EstimatorOptions& options, uint64_t stream_id,
+                       filter::ParticleSet* particles) {
+  const Intrinsics& K = scorer.K();
   const int n = options.samples;
   std::vector<double> scores;
-  for (const Detection& d : boxes) scores.push_back(std::max(d.score, 1e-6));
+  for (int b = 0; b < scorer.num_boxes(); ++b) scores.push_back(std::max(scorer.detection(b).score, 1e-6));
   const std::vector<int> per_box = filter::AllocateSamples(scores, n);
 
   filter::ParticleSet& p = *particles;
   p.Resize(n);
   int i = 0;
-  for (size_t b = 0; b < boxes.size(); ++b) {
-    const Detection& d = boxes[b];
-    const double z = InitialDepth(K, mesh, d, box_depth[b], options.init_depth_quantile);
+  for (int b = 0; b < scorer.num_boxes(); ++b) {
+    const Detection& d = scorer.detection(b);
+    const double z = InitialDepth(K, scorer.mesh(), d, scorer.box_depth(b), options.init.depth_quantile);
     const double uc = d.x + 0.5 * d.w, vc = d.y + 0.5 * d.h;
     const Eigen::Vector3d ray((uc - K.cx) / K.fx, (vc - K.cy) / K.fy, 1.0);
-    for (int k = 0; k < per_box[b]; ++k, ++i) {
+    for (int k = 0; k < per_box[static_cast<size_t>(b)]; ++k, ++i) {
       Rng rng(options.seed, stream_id, kInitStream, static_cast<uint64_t>(i));
       p.box[i] = static_cast<int32_t>(b);
       p.R_cam_obj[i] = filter::UniformRotation(rng.Uniform(), rng.Uniform(), rng.Uniform());
       p.t_cam_obj_m[i] =
-          ray * z + options.init_sigma_t_m * Eigen::Vector3d(rng.Normal(), rng.Normal(), rng.Normal());
+          ray * z + options.init.sigma_t_m * Eigen::Vector3d(rng.Normal(), rng.Normal(), rng.Normal());
     }
   }
   MCPOSE_CHECK_EQ(i, n);

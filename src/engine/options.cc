@@ -3,8 +3,6 @@
 
 #include "mcpose/options.h"
 
-#include "render/raster_fixed.h"
-
 namespace mcpose {
 
 namespace {
@@ -16,37 +14,73 @@ bool Fail(std::string* error, const std::string& message) {
 
 }  // namespace
 
+bool IsFixedPoint(RasterBackend backend) {
+  return backend == RasterBackend::kFixedPoint || backend == RasterBackend::kSimd;
+}
+
+EngineOptions EngineOptions::Reference() {
+  EngineOptions e;
+  e.backend = RasterBackend::kScalar;
+  e.pixel_stride = 1;
+  e.max_grid_pixels = 0;
+  e.lod_error_px = 0;
+  e.DropUnusableFeatures();
+  return e;
+}
+
+void EngineOptions::DropUnusableFeatures() {
+  const bool lod = lod_error_px > 0;
+  if (!lod) lod_unbiased = false;
+  if (!lod || !IsFixedPoint(backend)) cluster_culling = false;
+  if (!IsFixedPoint(backend)) batched_setup = false;
+}
+
 bool EstimatorOptions::IsValid(std::string* error) const {
-  auto finite_positive = [](double v) { return std::isfinite(v) && v > 0; };
+  auto finite_nonnegative = [](double v) { return std::isfinite(v) && v >= 0; };
   if (samples < 1) return Fail(error, "samples must be >= 1, got " + std::to_string(samples));
   if (max_iterations < 1)
     return Fail(error, "max_iterations must be >= 1, got " + std::to_string(max_iterations));
   if (!std::isfinite(tau)) return Fail(error, "tau must be finite");
-  if (!(init_depth_quantile >= 0 && init_depth_quantile <= 1))
-    return Fail(error, "init_depth_quantile must lie in [0, 1]");
-  if (!(std::isfinite(init_sigma_t_m) && init_sigma_t_m >= 0))
-    return Fail(error, "init_sigma_t_m must be finite and >= 0");
-  if (!finite_positive(eps_m)) return Fail(error, "eps_m must be finite and > 0");
-  for (double w : {weight_a, weight_b, weight_c})
-    if (!(std::isfinite(w) && w >= 0)) return Fail(error, "weights a, b, c must be finite and >= 0");
-  if (std::fabs(weight_a + weight_b + weight_c - 1.0) > 1e-6) {
+
+  if (!(init.depth_quantile >= 0 && init.depth_quantile <= 1))
+    return Fail(error, "init.depth_quantile must lie in [0, 1]");
+  if (!finite_nonnegative(init.sigma_t_m)) return Fail(error, "init.sigma_t_m must be finite and >= 0");
+
+  if (!(std::isfinite(weight.eps_m) && weight.eps_m > 0)) return Fail(error, "weight.eps_m must be finite and > 0");
+  for (double w : {weight.a, weight.b, weight.c})
+    if (!finite_nonnegative(w)) return Fail(error, "weights a, b, c must be finite and >= 0");
+  if (std::fabs(weight.a + weight.b + weight.c - 1.0) > 1e-6) {
     std::ostringstream os;
-    os << "weights must sum to 1 (a + b + c = " << weight_a + weight_b + weight_c << ")";
+    os << "weights must sum to 1 (a + b + c = " << weight.a + weight.b + weight.c << ")";
     return Fail(error, os.str());
   }
-  if (!(keep_top_fraction > 0 && keep_top_fraction <= 1))
-    return Fail(error, "keep_top_fraction must lie in (0, 1]");
-  if (cdf_table_size < 1) return Fail(error, "cdf_table_size must be >= 1");
-  for (double s : {sigma_t_m, sigma_r_rad, sigma_t_min_m, sigma_r_min_rad})
-    if (!(std::isfinite(s) && s >= 0)) return Fail(error, "diffusion sigmas must be finite and >= 0");
-  if (!(anneal > 0 && anneal <= 1)) return Fail(error, "anneal must lie in (0, 1]");
-  if (!(flip_rate >= 0 && flip_rate <= 1)) return Fail(error, "flip_rate must lie in [0, 1]");
-  if (!(std::isfinite(lod_error_px) && lod_error_px >= 0))
-    return Fail(error, "lod_error_px must be finite and >= 0 (0 = full mesh)");
-  if (pixel_stride < 1 || pixel_stride > 16)
-    return Fail(error, "pixel_stride must lie in [1, 16], got " + std::to_string(pixel_stride));
-  if (max_grid_pixels < 0) return Fail(error, "max_grid_pixels must be >= 0 (0 = no budget)");
-  if (threads < 0) return Fail(error, "threads must be >= 0 (0 = all hardware threads)");
+
+  if (!(resample.keep_top_fraction > 0 && resample.keep_top_fraction <= 1))
+    return Fail(error, "resample.keep_top_fraction must lie in (0, 1]");
+  if (resample.cdf_table_size < 1) return Fail(error, "resample.cdf_table_size must be >= 1");
+
+  for (double s : {diffusion.sigma_t_m, diffusion.sigma_r_rad, diffusion.sigma_t_min_m, diffusion.sigma_r_min_rad})
+    if (!finite_nonnegative(s)) return Fail(error, "diffusion sigmas must be finite and >= 0");
+  if (!(diffusion.anneal > 0 && diffusion.anneal <= 1)) return Fail(error, "diffusion.anneal must lie in (0, 1]");
+  if (!(diffusion.flip_rate >= 0 && diffusion.flip_rate <= 1))
+    return Fail(error, "diffusion.flip_rate must lie in [0, 1]");
+
+  if (!finite_nonnegative(engine.lod_error_px))
+    return Fail(error, "engine.lod_error_px must be finite and >= 0 (0 = full mesh)");
+  if (engine.pixel_stride < 1 || engine.pixel_stride > 16)
+    return Fail(error, "engine.pixel_stride must lie in [1, 16], got " + std::to_string(engine.pixel_stride));
+  if (engine.max_grid_pixels < 0) return Fail(error, "engine.max_grid_pixels must be >= 0 (0 = no budget)");
+  if (engine.threads < 0) return Fail(error, "engine.threads must be >= 0 (0 = all hardware threads)");
+  // Features that would have no effect: asking for them is a mistake the user should see.
+  const std::string backend = RasterBackendName(engine.backend);
+  if (engine.lod_unbiased && !(engine.lod_error_px > 0))
+    return Fail(error, "engine.lod_unbiased has no effect with engine.lod_error_px 0 (no level of detail)");
+  if (engine.cluster_culling && !(engine.lod_error_px > 0))
+    return Fail(error, "engine.cluster_culling needs engine.lod_error_px > 0 (the clusters come with the LOD levels)");
+  if (engine.cluster_culling && !IsFixedPoint(engine.backend))
+    return Fail(error, "engine.cluster_culling needs a fixed-point engine.backend (fixed or simd), not " + backend);
+  if (engine.batched_setup && !IsFixedPoint(engine.backend))
+    return Fail(error, "engine.batched_setup needs a fixed-point engine.backend (fixed or simd), not " + backend);
   return true;
 }
 
@@ -74,9 +108,5 @@ const char* RasterBackendName(RasterBackend backend) {
   }
   return "unknown";
 }
-
-std::string SimdTargets() { return render::SimdTargetsAvailable(); }
-std::string ActiveSimdTarget() { return render::DispatchedSimdTarget(); }
-bool LimitSimdTarget(const std::string& name) { return render::LimitSimdTargets(name); }
 
 }  // namespace mcpose

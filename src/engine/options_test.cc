@@ -17,28 +17,35 @@ TEST(EstimatorOptions, DefaultsAreValidAndMatchThePaper) {
   EXPECT_TRUE(o.IsValid(&error)) << error;
   EXPECT_EQ(o.samples, 620);
   EXPECT_EQ(o.max_iterations, 50);
-  EXPECT_NEAR(o.weight_a + o.weight_b + o.weight_c, 1.0, 1e-12);
+  EXPECT_NEAR(o.weight.a + o.weight.b + o.weight.c, 1.0, 1e-12);
 }
 
 TEST(EstimatorOptions, EachInvalidFieldIsNamed) {
   const std::pair<std::function<void(EstimatorOptions&)>, std::string> cases[] = {
       {[](EstimatorOptions& o) { o.samples = 0; }, "samples"},
       {[](EstimatorOptions& o) { o.max_iterations = 0; }, "max_iterations"},
-      {[](EstimatorOptions& o) { o.eps_m = 0; }, "eps_m"},
-      {[](EstimatorOptions& o) { o.eps_m = NAN; }, "eps_m"},
-      {[](EstimatorOptions& o) { o.weight_a = 0.9; }, "sum to 1"},
-      {[](EstimatorOptions& o) { o.weight_c = -0.1, o.weight_a = 0.65; }, "weights"},
-      {[](EstimatorOptions& o) { o.keep_top_fraction = 0; }, "keep_top_fraction"},
-      {[](EstimatorOptions& o) { o.pixel_stride = 0; }, "pixel_stride"},
-      {[](EstimatorOptions& o) { o.pixel_stride = 17; }, "pixel_stride"},
-      {[](EstimatorOptions& o) { o.max_grid_pixels = -1; }, "max_grid_pixels"},
-      {[](EstimatorOptions& o) { o.cdf_table_size = 0; }, "cdf_table_size"},
-      {[](EstimatorOptions& o) { o.anneal = 1.5; }, "anneal"},
-      {[](EstimatorOptions& o) { o.flip_rate = -0.1; }, "flip_rate"},
-      {[](EstimatorOptions& o) { o.flip_rate = NAN; }, "flip_rate"},
-      {[](EstimatorOptions& o) { o.sigma_r_rad = -1; }, "sigma"},
-      {[](EstimatorOptions& o) { o.init_depth_quantile = 2; }, "init_depth_quantile"},
-      {[](EstimatorOptions& o) { o.threads = -1; }, "threads"},
+      {[](EstimatorOptions& o) { o.weight.eps_m = 0; }, "eps_m"},
+      {[](EstimatorOptions& o) { o.weight.eps_m = NAN; }, "eps_m"},
+      {[](EstimatorOptions& o) { o.weight.a = 0.9; }, "sum to 1"},
+      {[](EstimatorOptions& o) { o.weight.c = -0.1, o.weight.a = 0.65; }, "weights"},
+      {[](EstimatorOptions& o) { o.resample.keep_top_fraction = 0; }, "keep_top_fraction"},
+      {[](EstimatorOptions& o) { o.engine.pixel_stride = 0; }, "pixel_stride"},
+      {[](EstimatorOptions& o) { o.engine.pixel_stride = 17; }, "pixel_stride"},
+      {[](EstimatorOptions& o) { o.engine.max_grid_pixels = -1; }, "max_grid_pixels"},
+      {[](EstimatorOptions& o) { o.resample.cdf_table_size = 0; }, "cdf_table_size"},
+      {[](EstimatorOptions& o) { o.diffusion.anneal = 1.5; }, "anneal"},
+      {[](EstimatorOptions& o) { o.diffusion.flip_rate = -0.1; }, "flip_rate"},
+      {[](EstimatorOptions& o) { o.diffusion.flip_rate = NAN; }, "flip_rate"},
+      {[](EstimatorOptions& o) { o.diffusion.sigma_r_rad = -1; }, "sigma"},
+      {[](EstimatorOptions& o) { o.engine.lod_error_px = -1; }, "lod_error_px"},
+      // Features that would have no effect name the fields involved.
+      {[](EstimatorOptions& o) { o.engine.lod_error_px = 0; }, "engine.lod_unbiased"},
+      {[](EstimatorOptions& o) { o.engine.lod_error_px = 0, o.engine.lod_unbiased = false; }, "engine.cluster_culling"},
+      {[](EstimatorOptions& o) { o.engine.backend = RasterBackend::kScalar; }, "engine.cluster_culling"},
+      {[](EstimatorOptions& o) { o.engine.backend = RasterBackend::kFloatSimd, o.engine.cluster_culling = false; },
+       "engine.batched_setup"},
+      {[](EstimatorOptions& o) { o.init.depth_quantile = 2; }, "init.depth_quantile"},
+      {[](EstimatorOptions& o) { o.engine.threads = -1; }, "threads"},
       {[](EstimatorOptions& o) { o.tau = INFINITY; }, "tau"},
   };
   for (const auto& [mutate, field] : cases) {
@@ -50,6 +57,31 @@ TEST(EstimatorOptions, EachInvalidFieldIsNamed) {
     auto est = Estimator::Create(o);
     EXPECT_FALSE(est.ok());
     EXPECT_NE(est.status().message().find(field), std::string::npos);
+  }
+}
+
+// The reference engine and any backend after DropUnusableFeatures are valid, and dropping keeps
+// every feature the backend can use.
+TEST(EngineOptions, ReferenceAndDroppedFeaturesAreValid) {
+  EstimatorOptions o;
+  o.engine = EngineOptions::Reference();
+  std::string error;
+  EXPECT_TRUE(o.IsValid(&error)) << error;
+  EXPECT_EQ(o.engine.backend, RasterBackend::kScalar);
+  EXPECT_EQ(o.engine.pixel_stride, 1);
+  EXPECT_EQ(o.engine.lod_error_px, 0);
+  for (RasterBackend b :
+       {RasterBackend::kScalar, RasterBackend::kFixedPoint, RasterBackend::kSimd, RasterBackend::kFloatSimd}) {
+    for (double lod : {0.0, 2.0}) {
+      EstimatorOptions e;
+      e.engine.backend = b;
+      e.engine.lod_error_px = lod;
+      e.engine.DropUnusableFeatures();
+      EXPECT_TRUE(e.IsValid(&error)) << RasterBackendName(b) << " lod " << lod << ": " << error;
+      EXPECT_EQ(e.engine.batched_setup, IsFixedPoint(b));
+      EXPECT_EQ(e.engine.cluster_culling, IsFixedPoint(b) && lod > 0);
+      EXPECT_EQ(e.engine.lod_unbiased, lod > 0);
+    }
   }
 }
 

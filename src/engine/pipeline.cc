@@ -6,7 +6,7 @@
 #include <set>
 
 #include "core/rng.h"
-#include "engine/raster_cores.h"
+#include "engine/box_scorer.h"
 
 namespace mcpose {
 
@@ -36,7 +36,6 @@ StatusOr<RunReport> RunEstimation(const Dataset& dataset, const std::vector<Dete
     if (!id_set.count(d.obj_id))
       return InvalidArgument(where + ": unknown class (category_id " + std::to_string(d.obj_id) +
                              "); the dataset has no model for it");
-    if (!(d.w > 0 && d.h > 0)) return InvalidArgument(where + ": box has zero or negative size");
     groups[key][d.obj_id].push_back(d);
   }
 
@@ -46,13 +45,10 @@ StatusOr<RunReport> RunEstimation(const Dataset& dataset, const std::vector<Dete
     MCPOSE_ASSIGN_OR_RETURN(Frame frame, dataset.LoadFrame(key));
     for (const auto& [obj_id, dets] : by_class) {
       for (const Detection& d : dets) {
-        if (engine::ClipBox(d.x, d.y, d.w, d.h, frame.K.width, frame.K.height).empty()) {
-          return InvalidArgument(detections_source + ": box " + BoxText(d) + " of obj_id " + std::to_string(obj_id) +
-                                 " in scene_id " + std::to_string(key.scene_id) + ", image_id " +
-                                 std::to_string(key.image_id) + " lies outside the " +
-                                 std::to_string(frame.K.width) + "x" + std::to_string(frame.K.height) +
-                                 " image");
-        }
+        if (Status st = engine::CheckBox(d, frame.K); !st.ok())
+          return InvalidArgument(detections_source + ": obj_id " + std::to_string(obj_id) + " in scene_id " +
+                                 std::to_string(key.scene_id) + ", image_id " + std::to_string(key.image_id) +
+                                 ": " + st.message());
       }
       if (!meshes.count(obj_id)) {
         MCPOSE_ASSIGN_OR_RETURN(Mesh mesh, dataset.LoadMesh(obj_id));

@@ -18,6 +18,8 @@
 #include <benchmark/benchmark.h>
 
 #include "core/parallel_for.h"
+#include "engine/box_scorer.h"
+#include "engine/context.h"
 #include "engine/initialize.h"
 #include "engine/raster_cores.h"
 #include "filter/resample.h"
@@ -38,7 +40,7 @@ struct Workload {
   Frame frame;
   Mesh mesh;
   Detection det;
-  std::vector<engine::BoxDepth> boxes;
+  std::vector<score::BoxDepth> boxes;
   filter::ParticleSet particles;
   std::unique_ptr<render::LodChain> lod;
   const render::LodLevel* lod_level = nullptr;  // the level a 1-pixel budget picks for this box
@@ -60,13 +62,16 @@ const Workload& GetWorkload(FrameKey key, int obj_id, int samples, int stride = 
     w->det = Detection{key.scene_id, key.image_id, obj_id, 1.0};
     MaskBox(mask, &w->det);
   }
-  w->boxes.push_back(engine::DistributeDepth(
+  w->boxes.push_back(score::DistributeDepth(
       w->frame.depth, w->frame.K,
       engine::ClipBox(w->det.x, w->det.y, w->det.w, w->det.h, w->frame.K.width, w->frame.K.height), 1.0,
       InlierMode::k1D, stride));
   EstimatorOptions options;
   options.samples = samples;
-  engine::InitializeSamples(w->frame.K, w->mesh, std::span(&w->det, 1), w->boxes, options, 1, &w->particles);
+  engine::Context context(options);
+  auto scorer = engine::BoxScorer::Create(context, w->frame.K, w->frame.depth, w->mesh, std::span(&w->det, 1));
+  if (!scorer.ok()) std::abort();
+  engine::InitializeSamples(**scorer, options, 1, &w->particles);
   w->lod = std::make_unique<render::LodChain>(render::LodChain::Build(w->mesh));
   w->lod_level = &w->lod->level(engine::SelectLodLevel(*w->lod, w->frame.K, w->mesh, w->det, w->boxes[0], options));
   slot = std::move(w);
@@ -86,18 +91,14 @@ void BM_ScoreIteration(benchmark::State& state) {
                                     RasterBackend::kFloatSimd};
   const auto backend = backends[state.range(1)];
   engine::RasterCores cores(static_cast<int>(state.range(3)), backend);
-  const Mesh* box_mesh[1] = {state.range(2) ? &w.lod_level->mesh : &w.mesh};
-  const render::ClusterSet* box_clusters[1] = {&w.lod_level->clusters};
-  engine::ScoreJob job;
-  job.mesh = &w.mesh;
-  job.box_mesh = box_mesh;
-  if (state.range(2) == 2) job.box_clusters = box_clusters;
-  job.K = w.frame.K;
-  job.boxes = w.boxes;
+  const backends::BoxTarget box{&w.boxes[0], state.range(2) ? &w.lod_level->mesh : &w.mesh,
+                                state.range(2) == 2 ? &w.lod_level->clusters : nullptr};
+  backends::SampleSettings settings;
+  settings.batched_setup = IsFixedPoint(backend);
   std::vector<score::InlierCounts> counts(w.particles.size());
   render::RasterStats stats;
   for (auto _ : state) {
-    cores.Score(job, w.particles, counts, &stats);
+    cores.Score(std::span(&box, 1), settings, w.particles, counts, &stats);
     benchmark::DoNotOptimize(counts.data());
   }
   state.SetLabel("obj " + std::to_string(obj_id) + " " + RasterBackendName(backend) +
@@ -136,10 +137,7 @@ void BM_TriangleSetup(benchmark::State& state) {
   const auto& [key, obj_id] = kObjects[state.range(0)];
   const Workload& w = GetWorkload(key, obj_id, static_cast<int>(state.range(2)));
   const Mesh& mesh = w.lod_level->mesh;
-  render::RasterParams p;
-  p.fx = static_cast<float>(w.frame.K.fx), p.fy = static_cast<float>(w.frame.K.fy);
-  p.cx = static_cast<float>(w.frame.K.cx), p.cy = static_cast<float>(w.frame.K.cy);
-  p.box = w.boxes[0].rect;
+  const render::RasterParams p = score::BoxRasterParams(w.boxes[0], true);
   const size_t n = w.particles.size(), nv = mesh.vertices_m.size();
   std::vector<render::ScreenVertex> projected(n * nv);
   for (size_t i = 0; i < n; ++i)

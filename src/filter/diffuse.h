@@ -2,7 +2,7 @@
 // object origin, R' = Exp(sigma_r * n_r) R, and the translation in the camera frame,
 // t' = t + sigma_t * n_t, with n_r, n_t ~ N(0, I_3). A rotation step never moves the object
 // origin, so the two noises stay independent. Flip moves (Flip, below) turn a pose 180 degrees
-// about a model axis before its noise (EstimatorOptions::flip_rate).
+// about a model axis before its noise (DiffusionOptions::flip_rate).
 #pragma once
 
 #include <Eigen/Core>

@@ -34,16 +34,6 @@ void CdfSampler::Build(std::span<const double> weights, double keep_top_fraction
   for (double& c : cdf_) c /= acc;
   cdf_.back() = 1.0;
 
-  cdf_unsorted_.assign(n, 0.0);
-  std::vector<char> kept(n, 0);
-  for (int i : order_) kept[i] = 1;
-  acc = 0;
-  for (int i = 0; i < n; ++i) {
-    if (kept[i]) acc += uniform ? 1.0 : weights[i];
-    cdf_unsorted_[i] = acc;
-  }
-  for (double& c : cdf_unsorted_) c /= acc;
-
   // Coarse table: first position whose cumulative weight exceeds k / table_size.
   table_.resize(table_size);
   int pos = 0;
@@ -67,26 +57,6 @@ int CdfSampler::Draw(double u, int64_t* reads) const {
   }
   if (reads) *reads += r;
   return order_[pos];
-}
-
-int CdfSampler::DrawLinear(double u, int64_t* reads) const {
-  const int n = static_cast<int>(cdf_unsorted_.size());
-  int i = 0;
-  int64_t r = 0;
-  while (true) {
-    ++r;
-    if (cdf_unsorted_[i] > u || i == n - 1) break;
-    ++i;
-  }
-  if (reads) *reads += r;
-  return i;
-}
-
-int64_t CdfSampler::LinearSearchReads(double u) const {
-  // DrawLinear stops at the first cdf > u, or at the last entry.
-  const auto it = std::upper_bound(cdf_unsorted_.begin(), cdf_unsorted_.end(), u);
-  const int64_t n = static_cast<int64_t>(cdf_unsorted_.size());
-  return std::min<int64_t>(it - cdf_unsorted_.begin(), n - 1) + 1;
 }
 
 }  // namespace mcpose::filter

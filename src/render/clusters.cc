@@ -127,4 +127,42 @@ ClusterCull CullCluster(const Cluster& c, const Eigen::Matrix3f& R, const Eigen:
   return ClusterCull::kKeep;
 }
 
+std::span<const std::array<uint32_t, 3>> KeptTriangles(const ClusterSet& set, const ClusterCull* culls,
+                                                       std::vector<std::array<uint32_t, 3>>* scratch,
+                                                       RasterStats* stats) {
+  // Runs of adjacent kept clusters are referenced in place, and copied out together only when
+  // a dropped cluster splits them.
+  const std::span<const std::array<uint32_t, 3>> all(set.triangles);
+  scratch->clear();
+  size_t run_first = 0, run_end = 0;  // the current run of kept triangles in `all`
+  for (size_t k = 0; k < set.clusters.size(); ++k) {
+    const Cluster& c = set.clusters[k];
+    switch (culls[k]) {
+      case ClusterCull::kBackface:
+        ++stats->clusters_culled_backface;
+        stats->culled_backface += c.count;
+        break;
+      case ClusterCull::kOutsideBox:
+        ++stats->clusters_culled_outside_box;
+        stats->culled_outside_box += c.count;
+        break;
+      case ClusterCull::kKeep:
+        if (run_end != c.first) {  // a new run: the previous one is copied out
+          scratch->insert(scratch->end(), all.begin() + run_first, all.begin() + run_end);
+          run_first = c.first;
+        }
+        run_end = c.first + c.count;
+        continue;
+    }
+    stats->triangles += c.count;
+  }
+  stats->clusters += static_cast<int64_t>(set.clusters.size());
+  std::span<const std::array<uint32_t, 3>> kept = all.subspan(run_first, run_end - run_first);
+  if (!scratch->empty()) {  // runs were copied out: the last one joins them
+    scratch->insert(scratch->end(), kept.begin(), kept.end());
+    kept = *scratch;
+  }
+  return kept;
+}
+
 }  // namespace mcpose::render

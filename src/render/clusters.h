@@ -10,6 +10,7 @@
 
 #include <array>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include <Eigen/Core>
@@ -68,5 +69,13 @@ ClusterCull CullCluster(const Cluster& c, const Eigen::Matrix3f& R, const Eigen:
 // float operations in the same order, so the same decisions (tested on every target).
 void CullClustersSimd(const ClusterSet& set, const Eigen::Matrix3f& R, const Eigen::Vector3f& t,
                       const Eigen::Vector3f& camera_in_model, const RasterParams& params, ClusterCull* out);
+
+// The triangles of the clusters `culls` keeps (culls[k] for set.clusters[k]), in cluster order:
+// a span into set.triangles when the kept clusters form one run, else copied into *scratch.
+// Counts each dropped cluster and its triangles (as culled_backface or culled_outside_box, and
+// in `triangles`, the triangles submitted) and the clusters tested in *stats.
+std::span<const std::array<uint32_t, 3>> KeptTriangles(const ClusterSet& set, const ClusterCull* culls,
+                                                       std::vector<std::array<uint32_t, 3>>* scratch,
+                                                       RasterStats* stats);
 
 }  // namespace mcpose::render

@@ -165,13 +165,4 @@ void RasterizeDepthFixedPoint(std::span<const ScreenVertex> vertices,
                               RowKernel rows = RowKernel::kScalar, SnappedVertices* snapped = nullptr);
 // With RowKernel::kSimd, zbuf must have kSimdPadFloats of slack after the box.
 
-// The Highway targets compiled in and supported by this CPU, e.g. "AVX2 SSE4 EMU128".
-std::string SimdTargetsAvailable();
-// The target every SIMD kernel dispatches to now (asked of a dispatched function): the first
-// of SimdTargetsAvailable().
-std::string DispatchedSimdTarget();
-// Caps runtime dispatch at the target called `name` (one of SimdTargetsAvailable(), e.g. "AVX2"
-// on an AVX-512 machine) for the rest of the process; false (and no change) for another name.
-bool LimitSimdTargets(const std::string& name);
-
 }  // namespace mcpose::render

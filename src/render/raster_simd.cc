@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "render/raster_fixed.h"
+#include "render/simd_targets.h"
 
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "render/raster_simd.cc"

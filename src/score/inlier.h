@@ -47,17 +47,6 @@ std::vector<float> ObservedOrNaN(std::span<const float> observed);
 InlierCounts CountInliers1DInRectSimd(const float* rendered, const float* observed_or_nan, int stride,
                                       const render::PixelRect& rect, int32_t n_observed, float eps_m);
 
-// w = a * N / N_b + b * N / N_r + c * score; a term with a zero denominator is 0. With
-// `occlusion_aware`, rendered pixels hidden behind observed surfaces do not count against the
-// precision term: N_r becomes N_r - occluded.
-inline double Weight(const InlierCounts& n, double score, double a, double b, double c,
-                     bool occlusion_aware = false) {
-  const int32_t rendered = occlusion_aware ? n.rendered - n.occluded : n.rendered;
-  const double recall = n.observed > 0 ? static_cast<double>(n.inliers) / n.observed : 0.0;
-  const double precision = rendered > 0 ? static_cast<double>(n.inliers) / rendered : 0.0;
-  return a * recall + b * precision + c * score;
-}
-
 // The 3-D reference test: the observed pixels of one box back-projected to camera-frame points
 // in a KD-tree; a rendered pixel is an inlier if its back-projected point has an observed point
 // within eps. Built once per box, then queried by any number of hypotheses (thread-safe).

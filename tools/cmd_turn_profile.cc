@@ -6,19 +6,23 @@
 #include <nlohmann/json.hpp>
 
 #include "analysis/turn_profile.h"
-#include "commands.h"
+#include "cli/common.h"
+#include "tools.h"
 #include "mcpose/dataset.h"
 #include "mcpose/detection.h"
 #include "mcpose/eval.h"
 
-namespace mcpose::cli {
+namespace mcpose::tools {
+
+using cli::CheckWritable;
+using cli::WriteFileAtomically;
 
 namespace {
 
 struct TurnProfileArgs {
-  std::string dataset, split = "test", detections, json, engine = "simd";
+  std::string dataset, split = "test", detections, json;
   int obj_id = 0;
-  EstimatorOptions options;
+  cli::EstimatorFlags flags;
   analysis::TurnProfileOptions turn;
 };
 
@@ -30,12 +34,10 @@ double Iou(const Detection& a, const Detection& b) {
 }
 
 Status RunTurnProfile(TurnProfileArgs& a) {
-  EstimatorOptions& o = a.options;
-  if (!ParseRasterBackend(a.engine, &o.backend))
-    return InvalidArgument(std::string("--engine must be ") + kRasterBackendChoices + ", got '" + a.engine + "'");
+  MCPOSE_RETURN_IF_ERROR(a.flags.Finish());
+  const EstimatorOptions& o = a.flags.options;
   std::string error;
   if (!a.turn.IsValid(&error)) return InvalidArgument("invalid turn options: " + error);
-  if (!o.IsValid(&error)) return InvalidArgument("invalid engine options: " + error);
   if (!a.json.empty()) MCPOSE_RETURN_IF_ERROR(CheckWritable(a.json));
   MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<Dataset> dataset, Dataset::Open(a.dataset, a.split));
   MCPOSE_ASSIGN_OR_RETURN(std::vector<Detection> detections, ReadDetectionsJson(a.detections));
@@ -51,7 +53,7 @@ Status RunTurnProfile(TurnProfileArgs& a) {
   std::printf("turn profile of %s about model axis %c, %g deg steps, the truth within %g deg; engine %s, "
               "LOD %.2f px, pixel stride %d\n",
               dataset->ObjectName(a.obj_id).c_str(), "xyz"[axis], a.turn.step_deg, a.turn.near_deg,
-              RasterBackendName(o.backend), o.lod_error_px, o.pixel_stride);
+              RasterBackendName(o.engine.backend), o.engine.lod_error_px, o.engine.pixel_stride);
   std::printf("%-12s %9s %6s %8s %9s %9s %7s\n", "scene/image", "triangles", "stride", "truth", "jitter", "range",
               "beaten");
   nlohmann::json instances = nlohmann::json::array();
@@ -92,8 +94,8 @@ Status RunTurnProfile(TurnProfileArgs& a) {
   if (!a.json.empty()) {
     nlohmann::json doc = {{"obj_id", a.obj_id}, {"name", dataset->ObjectName(a.obj_id)}, {"axis", axis},
                           {"step_deg", a.turn.step_deg}, {"near_deg", a.turn.near_deg},
-                          {"engine", RasterBackendName(o.backend)}, {"lod_px", o.lod_error_px},
-                          {"pixel_stride", o.pixel_stride}, {"max_grid_pixels", o.max_grid_pixels},
+                          {"engine", RasterBackendName(o.engine.backend)}, {"lod_px", o.engine.lod_error_px},
+                          {"pixel_stride", o.engine.pixel_stride}, {"max_grid_pixels", o.engine.max_grid_pixels},
                           {"mean_jitter", sum_jitter / n}, {"mean_range", sum_range / n},
                           {"mean_beaten", sum_beaten / n}, {"instances", instances}};
     MCPOSE_RETURN_IF_ERROR(WriteFileAtomically(a.json, doc.dump(1) + "\n"));
@@ -105,7 +107,6 @@ Status RunTurnProfile(TurnProfileArgs& a) {
 
 void AddTurnProfileCommand(CLI::App& app, Status* status) {
   auto args = std::make_shared<TurnProfileArgs>();
-  EstimatorOptions& o = args->options;
   CLI::App* cmd = app.add_subcommand(
       "turn-profile",
       "The engine's weight of each ground-truth pose turned about a model axis: how much an engine option's "
@@ -119,14 +120,9 @@ void AddTurnProfileCommand(CLI::App& app, Status* status) {
                                              "other two (a can's axis)")->capture_default_str();
   cmd->add_option("--step-deg", args->turn.step_deg, "Turn step, degrees (divides 360, at most 45)")->capture_default_str();
   cmd->add_option("--near-deg", args->turn.near_deg, "Turns within this of the truth count as the truth")->capture_default_str();
-  cmd->add_option("--threads", o.threads, "Raster cores (worker threads); 0 = all hardware threads")->capture_default_str();
-  cmd->add_option("--engine", args->engine, "Raster core: scalar, fixed, simd or float-simd")->capture_default_str();
-  cmd->add_option("--lod-px", o.lod_error_px, "Level-of-detail budget in image pixels; 0 = full mesh")->capture_default_str();
-  cmd->add_option("--pixel-stride", o.pixel_stride, "Score every s-th pixel in x and y of each box")->capture_default_str();
-  cmd->add_option("--max-grid-pixels", o.max_grid_pixels, "Coarser stride above this many grid pixels; 0 = no budget")->capture_default_str();
-  cmd->add_option("--eps", o.eps_m, "Inlier threshold, metres")->capture_default_str();
+  cli::AddEstimatorFlags(cmd, cli::kWeightFlags | cli::kEngineFlags, &args->flags);
   cmd->add_option("--json", args->json, "Also write each instance's profile (angles, weights) and the statistics");
   cmd->callback([args, status] { *status = RunTurnProfile(*args); });
 }
 
-}  // namespace mcpose::cli
+}  // namespace mcpose::tools

@@ -100,8 +100,9 @@ Scene Cuboid() {
 
 EstimatorOptions Reference() {
   EstimatorOptions o;
-  o.backend = RasterBackend::kFloatSimd;
-  o.lod_error_px = 0, o.pixel_stride = 1, o.max_grid_pixels = 0, o.threads = 2;
+  o.engine = EngineOptions::Reference();
+  o.engine.backend = RasterBackend::kFloatSimd;
+  o.engine.threads = 2;
   return o;
 }
 
@@ -119,7 +120,7 @@ TEST(TurnProfile, CuboidHalfTurnScoresAsTheTruthAndAQuarterTurnLower) {
     EXPECT_EQ(p->stride, 1);
     // Every rendered pixel of the truth is an inlier (N = N_r): w >= b + c * score.
     const EstimatorOptions o = Reference();
-    EXPECT_GT(p->weight[0], o.weight_b + o.weight_c * 0.9 + 0.1) << axis;
+    EXPECT_GT(p->weight[0], o.weight.b + o.weight.c * 0.9 + 0.1) << axis;
     EXPECT_EQ(p->weight[0], *std::max_element(p->weight.begin(), p->weight.end())) << axis;
     EXPECT_NEAR(p->weight[18], p->weight[0], 0.01) << axis;  // the half turn: the same cuboid
     EXPECT_LT(p->weight[9], p->weight[0] - 0.05) << axis;    // a quarter turn: another shape
@@ -132,13 +133,13 @@ TEST(TurnProfile, CuboidHalfTurnScoresAsTheTruthAndAQuarterTurnLower) {
 TEST(TurnProfile, TheDefaultsScoreAtTheirStride) {
   const Scene s = Cuboid();
   EstimatorOptions o;  // stride 2, LOD on (the 12-triangle cuboid has no coarser level)
-  o.threads = 1;
+  o.engine.threads = 1;
   auto p = ProfileTurns(s.K, s.depth, s.mesh, s.box, s.T_gt, o, TurnProfileOptions{});
   ASSERT_TRUE(p.ok()) << p.status().ToString();
   EXPECT_EQ(p->stride, 2) << s.box.w << "x" << s.box.h;
   EXPECT_EQ(p->weight.size(), 72u);
   EXPECT_EQ(p->triangles, 12);
-  o.threads = 2;  // the raster cores give the same counts at any thread count
+  o.engine.threads = 2;  // the raster cores give the same counts at any thread count
   auto q = ProfileTurns(s.K, s.depth, s.mesh, s.box, s.T_gt, o, TurnProfileOptions{});
   ASSERT_TRUE(q.ok());
   EXPECT_EQ(p->weight, q->weight);
@@ -150,7 +151,7 @@ TEST(TurnProfile, BadInputIsNamed) {
   outside.x = 5000;
   auto p = ProfileTurns(s.K, s.depth, s.mesh, outside, s.T_gt, Reference(), TurnProfileOptions{});
   ASSERT_FALSE(p.ok());
-  EXPECT_NE(p.status().message().find("outside the image"), std::string::npos);
+  EXPECT_NE(p.status().message().find("outside the"), std::string::npos);
   TurnProfileOptions bad;
   bad.step_deg = 0;
   p = ProfileTurns(s.K, s.depth, s.mesh, s.box, s.T_gt, Reference(), bad);

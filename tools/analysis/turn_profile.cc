@@ -7,10 +7,8 @@
 
 #include <Eigen/Geometry>
 
-#include "engine/initialize.h"
-#include "engine/raster_cores.h"
-#include "render/lod.h"
-#include "score/inlier.h"
+#include "engine/box_scorer.h"
+#include "engine/context.h"
 
 namespace mcpose::analysis {
 
@@ -79,37 +77,14 @@ StatusOr<TurnProfile> ProfileTurns(const Intrinsics& K, const DepthImage& depth,
   std::string error;
   if (!turn.IsValid(&error)) return InvalidArgument("invalid turn profile options: " + error);
   if (!options.IsValid(&error)) return InvalidArgument("invalid engine options: " + error);
-  if (!K.IsValid(&error)) return InvalidArgument(error);
-  if (depth.width != K.width || depth.height != K.height ||
-      depth.depth_m.size() != static_cast<size_t>(depth.width) * depth.height)
-    return InvalidArgument("the depth image does not match the intrinsics' size");
-  MCPOSE_RETURN_IF_ERROR(mesh.Validate("mesh"));
-  const render::PixelRect rect = engine::ClipBox(box.x, box.y, box.w, box.h, K.width, K.height);
-  if (rect.empty()) return InvalidArgument("the box lies outside the image");
-
+  // The estimator's scorer for this box: its engine, mesh level, stride and weight.
+  engine::Context context(options);
+  MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<engine::BoxScorer> scorer,
+                          engine::BoxScorer::Create(context, K, depth, mesh, std::span(&box, 1)));
   TurnProfile out;
   out.axis = turn.axis >= 0 ? turn.axis : DistinctAxis(mesh);
-  std::vector<engine::BoxDepth> boxes;
-  boxes.push_back(engine::DistributeDepth(depth, K, rect, box.score, options.inlier_mode,
-                                          engine::BoxStride(rect, options)));
-  out.stride = boxes[0].stride;
-  // The estimator's choice of mesh for this box.
-  std::optional<render::LodChain> lod;
-  if (options.lod_error_px > 0)
-    lod = render::LodChain::Build(mesh, options.lod_unbiased ? render::LodVertices::kUnbiased
-                                                             : render::LodVertices::kKept);
-  std::vector<const Mesh*> box_mesh;
-  std::vector<const render::ClusterSet*> box_clusters;
-  engine::ChooseBoxMeshes(lod ? &*lod : nullptr, K, mesh, std::span(&box, 1), boxes, options, &box_mesh,
-                          &box_clusters);
-  out.triangles = static_cast<int>(box_mesh[0]->triangles.size());
-  engine::ScoreJob job;
-  job.mesh = &mesh;
-  job.box_mesh = box_mesh;
-  job.box_clusters = box_clusters;
-  job.K = K;
-  job.boxes = boxes;
-  engine::SetEngineOptions(options, &job);
+  out.stride = scorer->box_depth(0).stride;
+  out.triangles = static_cast<int>(scorer->box_mesh(0).triangles.size());
 
   const int n = static_cast<int>(std::lround(360.0 / turn.step_deg));
   const Eigen::Vector3d c = (0.5f * (mesh.BoundsMin() + mesh.BoundsMax())).cast<double>();
@@ -125,13 +100,9 @@ StatusOr<TurnProfile> ProfileTurns(const Intrinsics& K, const DepthImage& depth,
     poses.box[static_cast<size_t>(k)] = 0;
     out.angle_deg.push_back(a);
   }
-  engine::RasterCores cores(options.threads, options.backend);
-  std::vector<score::InlierCounts> counts(static_cast<size_t>(n));
-  render::RasterStats stats;
-  cores.Score(job, poses, counts, &stats);
-  for (const score::InlierCounts& k : counts)
-    out.weight.push_back(score::Weight(k, box.score, options.weight_a, options.weight_b, options.weight_c,
-                                       options.occlusion_aware));
+  EngineCounters counters;
+  scorer->Weigh(&poses, &counters);
+  out.weight = poses.weight;
   out.stats = SummarizeTurnProfile(out.weight, turn.step_deg, turn.near_deg);
   return out;
 }

@@ -4,10 +4,14 @@
 #include <nlohmann/json.hpp>
 
 #include "analysis/depth_ambiguity.h"
-#include "commands.h"
+#include "cli/common.h"
+#include "tools.h"
 #include "mcpose/dataset.h"
 
-namespace mcpose::cli {
+namespace mcpose::tools {
+
+using cli::CheckWritable;
+using cli::WriteFileAtomically;
 
 namespace {
 
@@ -76,4 +80,4 @@ void AddAmbiguityCommand(CLI::App& app, Status* status) {
   cmd->callback([args, status] { *status = RunAmbiguity(*args); });
 }
 
-}  // namespace mcpose::cli
+}  // namespace mcpose::tools

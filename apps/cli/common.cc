@@ -1,0 +1,155 @@
+#include "cli/common.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "render/simd_targets.h"
+
+namespace mcpose::cli {
+
+void AddEstimatorFlags(CLI::App* cmd, unsigned groups, EstimatorFlags* f) {
+  EstimatorOptions& o = f->options;
+  if (groups & kSamplingFlags) {
+    cmd->add_option("--samples", o.samples, "Samples per object class per image")->capture_default_str();
+    cmd->add_option("--seed", o.seed, "Random seed; same seed, same results at any thread count")->capture_default_str();
+  }
+  if (groups & kStoppingFlags) {
+    cmd->add_option("--iterations", o.max_iterations, "Iteration limit")->capture_default_str();
+    cmd->add_option("--tau", o.tau, "Stop when the mean weight exceeds tau")->capture_default_str();
+  }
+  if (groups & kWeightFlags) {
+    cmd->add_option("--inlier", f->inlier, "Inlier test: 1d (|z_r - z_o| < eps) or 3d (nearest observed point)")
+        ->capture_default_str();
+    cmd->add_option("--eps", o.weight.eps_m, "Inlier threshold, metres")->capture_default_str();
+    char help[128];
+    std::snprintf(help, sizeof help,
+                  "Weight coefficients a b c (sum 1): w = a N/N_b + b N/N_r + c score (default %.2f %.2f %.2f)",
+                  o.weight.a, o.weight.b, o.weight.c);
+    cmd->add_option("--weights", f->weights, help)->expected(3);
+    cmd->add_flag("--occlusion-aware,!--no-occlusion-aware", o.weight.occlusion_aware,
+                  "Leave rendered pixels hidden behind observed surfaces out of N_r (default on; off: the paper's N_r)");
+  }
+  if (groups & kSearchFlags) {
+    cmd->add_option("--init-sigma-t", o.init.sigma_t_m, "Initial translation jitter, metres")->capture_default_str();
+    cmd->add_option("--init-depth-quantile", o.init.depth_quantile,
+                    "Quantile of the box's valid depths for the initial distance")->capture_default_str();
+    cmd->add_option("--keep-top", o.resample.keep_top_fraction, "Resample from this best fraction of samples, (0, 1]")
+        ->capture_default_str();
+    cmd->add_option("--cdf-table", o.resample.cdf_table_size, "Entries of the coarse CDF threshold table")
+        ->capture_default_str();
+    cmd->add_option("--sigma-t", o.diffusion.sigma_t_m, "Diffusion: translation sigma at iteration 0, metres")
+        ->capture_default_str();
+    cmd->add_option("--sigma-r", o.diffusion.sigma_r_rad, "Diffusion: rotation sigma at iteration 0, radians")
+        ->capture_default_str();
+    cmd->add_option("--sigma-t-min", o.diffusion.sigma_t_min_m, "Diffusion: smallest translation sigma, metres")
+        ->capture_default_str();
+    cmd->add_option("--sigma-r-min", o.diffusion.sigma_r_min_rad, "Diffusion: smallest rotation sigma, radians")
+        ->capture_default_str();
+    cmd->add_option("--anneal", o.diffusion.anneal, "Diffusion: sigma factor per iteration, (0, 1]")
+        ->capture_default_str();
+    cmd->add_option("--flip-rate", o.diffusion.flip_rate,
+                    "Diffusion: probability that a resampled sample turns 180 degrees about a model axis, [0, 1]")
+        ->capture_default_str();
+  }
+  if (groups & kEngineFlags) {
+    cmd->add_option("--engine", f->engine,
+                    "Raster core: scalar (float reference), float-simd (the reference a vector at a time, same "
+                    "results), fixed (1/16-pixel fixed point) or simd (fixed point a vector at a time)")
+        ->capture_default_str();
+    cmd->add_option("--threads", o.engine.threads, "Raster cores (worker threads); 0 = all hardware threads")
+        ->capture_default_str();
+    cmd->add_option("--pixel-stride", o.engine.pixel_stride,
+                    "Score every s-th pixel in x and y of each box; 1 with --max-grid-pixels 0 = every pixel")
+        ->capture_default_str();
+    cmd->add_option("--max-grid-pixels", o.engine.max_grid_pixels,
+                    "Score a box with more grid pixels than this at a coarser stride; 0 = no budget")
+        ->capture_default_str();
+    cmd->add_option("--lod-px", o.engine.lod_error_px,
+                    "Level of detail: the coarsest simplified mesh within this many image pixels of the full "
+                    "mesh at the box's depth; 0 = full mesh")
+        ->capture_default_str();
+    f->lod_unbiased = cmd->add_flag("--lod-unbiased,!--no-lod-unbiased", o.engine.lod_unbiased,
+                                    "LOD levels' vertices moved so that the full surface lies on each level on "
+                                    "average (default on with LOD)");
+    cmd->add_flag("--backface-culling,!--no-backface-culling", o.engine.backface_culling,
+                  "Cull back-facing triangles (default on)");
+    f->cluster_culling = cmd->add_flag("--cluster-culling,!--no-cluster-culling", o.engine.cluster_culling,
+                                       "Drop whole triangle clusters outside the box or facing away before setup "
+                                       "(default on with LOD on the fixed and simd engines)");
+    f->batched_setup = cmd->add_flag("--batched-setup,!--no-batched-setup", o.engine.batched_setup,
+                                     "Decide and set up triangles a SIMD vector at a time, same results (default "
+                                     "on for the fixed and simd engines)");
+    cmd->add_option("--simd-target", f->simd_target,
+                    "Cap the SIMD dispatch at this Highway target (here: " + SimdTargets() +
+                        "), e.g. AVX2 on an AVX-512 machine; same results; default: the best");
+  }
+}
+
+Status EstimatorFlags::Finish() {
+  EstimatorOptions& o = options;
+  if (inlier == "1d") {
+    o.weight.inlier = InlierMode::k1D;
+  } else if (inlier == "3d") {
+    o.weight.inlier = InlierMode::k3D;
+  } else {
+    return InvalidArgument("--inlier must be 1d or 3d, got '" + inlier + "'");
+  }
+  if (!weights.empty()) {
+    if (weights.size() != 3) return InvalidArgument("--weights takes three numbers a b c");
+    o.weight.a = weights[0], o.weight.b = weights[1], o.weight.c = weights[2];
+  }
+  if (!ParseRasterBackend(engine, &o.engine.backend))
+    return InvalidArgument(std::string("--engine must be ") + kRasterBackendChoices + ", got '" + engine + "'");
+  EngineOptions usable = o.engine;
+  usable.DropUnusableFeatures();
+  const auto given = [](const CLI::Option* opt) { return opt != nullptr && opt->count() > 0; };
+  if (!given(lod_unbiased)) o.engine.lod_unbiased = usable.lod_unbiased;
+  if (!given(cluster_culling)) o.engine.cluster_culling = usable.cluster_culling;
+  if (!given(batched_setup)) o.engine.batched_setup = usable.batched_setup;
+  if (!simd_target.empty() && !render::LimitSimdTargets(simd_target))
+    return InvalidArgument("--simd-target must be one of: " + SimdTargets() + "; got '" + simd_target + "'");
+  std::string error;
+  if (!o.IsValid(&error)) return InvalidArgument("invalid options: " + error);
+  return Status::Ok();
+}
+
+Status WriteFileAtomically(const std::string& path, const std::string& text) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) return NotFound(path + ": cannot open for writing");
+    out << text;
+    out.flush();
+    if (!out) {
+      std::error_code ec;
+      std::filesystem::remove(tmp, ec);
+      return Internal(path + ": write failed");
+    }
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) return Internal(path + ": cannot rename temporary file: " + ec.message());
+  return Status::Ok();
+}
+
+Status CheckWritable(const std::string& path) {
+  namespace fs = std::filesystem;
+  const fs::path p(path);
+  const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) return NotFound(path + ": folder " + dir.string() + " does not exist");
+  if (fs::is_directory(p, ec)) return InvalidArgument(path + ": is a folder, expected a file path");
+  const std::string probe = path + ".probe.tmp";
+  {
+    std::ofstream out(probe);
+    if (!out) return InvalidArgument(path + ": cannot create files in " + dir.string());
+  }
+  fs::remove(probe, ec);
+  return Status::Ok();
+}
+
+std::string ActiveSimdTarget() { return render::DispatchedSimdTarget(); }
+std::string SimdTargets() { return render::SimdTargetsAvailable(); }
+
+}  // namespace mcpose::cli

@@ -1,0 +1,55 @@
+// What the command-line programs (mcpose, mcpose-tools) share: the estimator's flags, each
+// registered once, and safe output files.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "mcpose/options.h"
+#include "mcpose/status.h"
+
+namespace mcpose::cli {
+
+// The groups of estimator flags a command takes.
+enum FlagGroup : unsigned {
+  kSamplingFlags = 1u << 0,  // --samples --seed
+  kStoppingFlags = 1u << 1,  // --iterations --tau
+  kWeightFlags = 1u << 2,    // --inlier --eps --weights --[no-]occlusion-aware
+  kSearchFlags = 1u << 3,    // initialization, resampling and diffusion
+  kEngineFlags = 1u << 4,    // --engine, its features, --threads, --simd-target
+  kAllEstimatorFlags = 0x1f,
+};
+
+// The estimator's options as flags: parsed into `options` and finished by Finish().
+struct EstimatorFlags {
+  EstimatorOptions options;
+  std::string engine = RasterBackendName(EstimatorOptions{}.engine.backend);
+  std::string inlier = "1d";
+  std::string simd_target;
+  std::vector<double> weights;
+  CLI::Option* lod_unbiased = nullptr;
+  CLI::Option* cluster_culling = nullptr;
+  CLI::Option* batched_setup = nullptr;
+
+  // After parsing: applies --engine, --inlier, --weights and --simd-target; the engine features
+  // not given on the command line are turned off where the chosen backend and LOD setting
+  // cannot use them (so `--engine scalar` needs nothing else), while one given explicitly that
+  // has no effect is an error; then validates. Errors name the flag or the option field.
+  Status Finish();
+};
+
+// Registers the flags of `groups` on `cmd`, with their defaults in the help.
+void AddEstimatorFlags(CLI::App* cmd, unsigned groups, EstimatorFlags* flags);
+
+// Writes `text` to `path` through a temporary file and a rename: no partial file on error.
+Status WriteFileAtomically(const std::string& path, const std::string& text);
+// Ok if a file could be created at `path` (its folder exists and is writable).
+Status CheckWritable(const std::string& path);
+
+// The SIMD target the kernels dispatch to now, and those this build and CPU offer.
+std::string ActiveSimdTarget();
+std::string SimdTargets();
+
+}  // namespace mcpose::cli

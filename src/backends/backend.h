@@ -1,0 +1,84 @@
+// A raster-core backend renders one pose hypothesis of a mesh inside its box and counts the
+// depth inliers: project -> rasterize -> count. One file per backend, beside this one:
+//   scalar_reference.cc   float edge functions per pixel: the oracle every other is tested against
+//   float_simd.cc         the reference a Highway vector at a time (bit-identical)
+//   fixed_point.cc        vertices snapped to 1/16 pixel, integer edge functions
+//   fixed_point_simd.cc   the fixed-point core a Highway vector at a time (bit-identical)
+// The engine (engine/raster_cores.h) chooses one per estimate and calls it for every sample on
+// every raster core; adding a backend means one file and a line in registry.cc.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "mcpose/mesh.h"
+#include "mcpose/options.h"
+#include "render/clusters.h"
+#include "render/raster.h"
+#include "render/raster_fixed.h"
+#include "score/box_depth.h"
+#include "score/inlier.h"
+
+namespace mcpose::backends {
+
+// One box as every sample rendered in it sees it: its observed depth, the mesh (LOD level) it
+// renders and, optionally, that mesh's culling clusters.
+struct BoxTarget {
+  const score::BoxDepth* depth = nullptr;
+  const Mesh* mesh = nullptr;
+  const render::ClusterSet* clusters = nullptr;  // null: walk every triangle
+};
+
+// Settings of a whole batch (from EstimatorOptions).
+struct SampleSettings {
+  InlierMode inlier_mode = InlierMode::k1D;
+  float eps_m = 0.01f;
+  bool cull_backfaces = true;
+  bool batched_setup = true;  // fixed-point backends only
+};
+
+// One raster core's working memory, reused from sample to sample.
+struct Scratch {
+  std::vector<render::ScreenVertex> vertices;
+  std::vector<float> zbuf;  // box-sized z-buffer with kSimdPadFloats of slack
+  render::SnappedVertices snapped;
+  std::vector<render::ClusterCull> culls;
+  std::vector<std::array<uint32_t, 3>> kept_triangles;
+};
+
+class Backend {
+ public:
+  virtual ~Backend() = default;
+  virtual RasterBackend kind() const = 0;
+  // Renders the mesh of `box` at X_cam = R X + t into the box's z-buffer (scratch->zbuf,
+  // box.depth->rect sized) and counts the inliers against its observed depth. Adds to *stats.
+  virtual score::InlierCounts ScoreSample(const BoxTarget& box, const Eigen::Matrix3f& R, const Eigen::Vector3f& t,
+                                          const SampleSettings& settings, Scratch* scratch,
+                                          render::RasterStats* stats) const = 0;
+};
+
+// The backend of `kind` (registry.cc).
+std::unique_ptr<Backend> MakeBackend(RasterBackend kind);
+
+// Steps every backend shares (backend.cc).
+namespace steps {
+
+// Sizes the scratch for `box`; returns the vertex buffer for its mesh.
+std::span<render::ScreenVertex> Prepare(const BoxTarget& box, Scratch* scratch);
+// `cover` (image-grid pixels, inside the box) relative to the box corner; the whole box for the
+// 3-D test, which reads every pixel.
+render::PixelRect RelativeCover(const score::BoxDepth& box, const render::PixelRect& cover, InlierMode mode);
+// Sets the z-buffer to +infinity inside `rel`, a pixel or a SIMD vector at a time.
+void ClearScalar(float* zbuf, int stride, const render::PixelRect& rel);
+// The inlier counts of the rendered z-buffer, reading only `rel` for the 1-D test (SIMD or
+// scalar counter: the same counts) and the whole box for the 3-D test.
+score::InlierCounts Count(const score::BoxDepth& box, const float* zbuf, const render::PixelRect& rel,
+                          const SampleSettings& settings, bool simd);
+
+}  // namespace steps
+
+}  // namespace mcpose::backends

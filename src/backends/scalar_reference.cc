@@ -1,0 +1,36 @@
+// The scalar reference backend: float vertices, a float edge-function test at every pixel
+// centre of the triangle's bounding box (render/raster.cc). Simple and slow on purpose: every
+// other backend is tested against it. Clusters are never used: it walks every triangle.
+#include "backends/backend.h"
+
+namespace mcpose::backends {
+
+namespace {
+
+class ScalarReference final : public Backend {
+ public:
+  RasterBackend kind() const override { return RasterBackend::kScalar; }
+
+  score::InlierCounts ScoreSample(const BoxTarget& box, const Eigen::Matrix3f& R, const Eigen::Vector3f& t,
+                                  const SampleSettings& settings, Scratch* s,
+                                  render::RasterStats* stats) const override {
+    const score::BoxDepth& depth = *box.depth;
+    const render::RasterParams params = score::BoxRasterParams(depth, settings.cull_backfaces);
+    const std::span<render::ScreenVertex> vertices = steps::Prepare(box, s);
+    // Project, and find the pixels the mesh can cover.
+    render::ProjectVertices(box.mesh->vertices_m, R, t, params, vertices);
+    const render::PixelRect rel =
+        steps::RelativeCover(depth, render::CoverBound(vertices, depth.rect), settings.inlier_mode);
+    // Rasterize into a z-buffer cleared only there.
+    steps::ClearScalar(s->zbuf.data(), depth.rect.width(), rel);
+    render::RasterizeDepthReference(vertices, box.mesh->triangles, params, s->zbuf.data(), stats);
+    // Count.
+    return steps::Count(depth, s->zbuf.data(), rel, settings, /*simd=*/false);
+  }
+};
+
+}  // namespace
+
+std::unique_ptr<Backend> MakeScalarReference() { return std::make_unique<ScalarReference>(); }
+
+}  // namespace mcpose::backends

@@ -1,0 +1,134 @@
+#include "engine/box_scorer.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/check.h"
+#include "engine/initialize.h"
+#include "score/weight.h"
+
+namespace mcpose::engine {
+
+render::PixelRect ClipBox(double x, double y, double w, double h, int width, int height) {
+  render::PixelRect r;
+  if (!(std::isfinite(x) && std::isfinite(y) && std::isfinite(w) && std::isfinite(h))) return r;
+  // BOP boxes count pixel indices: [x, x + w) holds pixels x .. x + w - 1. Fractional
+  // boxes are rounded outwards. Both ends are clamped to the image before the conversion to
+  // int (a coordinate like 1e300 does not fit one).
+  const auto clip = [](double v, int size) { return static_cast<int>(std::clamp(v, 0.0, static_cast<double>(size))); };
+  r.x0 = clip(std::floor(x), width), r.x1 = clip(std::ceil(x + w), width);
+  r.y0 = clip(std::floor(y), height), r.y1 = clip(std::ceil(y + h), height);
+  if (r.empty()) return render::PixelRect{};
+  return r;
+}
+
+Status CheckBox(const Detection& d, const Intrinsics& K) {
+  if (!(std::isfinite(d.score) && d.score >= 0)) return InvalidArgument("score must be finite and >= 0");
+  if (!(std::isfinite(d.x) && std::isfinite(d.y) && std::isfinite(d.w) && std::isfinite(d.h) && d.w > 0 && d.h > 0))
+    return InvalidArgument("box must be finite with positive size");
+  if (ClipBox(d.x, d.y, d.w, d.h, K.width, K.height).empty())
+    return InvalidArgument("box " + BoxText(d) + " lies outside the " + std::to_string(K.width) + "x" +
+                           std::to_string(K.height) + " image");
+  return Status::Ok();
+}
+
+int BoxStride(const render::PixelRect& rect, const EngineOptions& options) {
+  int s = std::max(1, options.pixel_stride);
+  if (options.max_grid_pixels <= 0) return s;
+  auto grid = [&](int k) { return int64_t{(rect.width() + k - 1) / k} * ((rect.height() + k - 1) / k); };
+  while (grid(s) > options.max_grid_pixels && s < 16) ++s;
+  return s;
+}
+
+StatusOr<std::unique_ptr<BoxScorer>> BoxScorer::Create(Context& context, const Intrinsics& K,
+                                                       const DepthImage& depth, const Mesh& mesh,
+                                                       std::span<const Detection> boxes) {
+  const EstimatorOptions& opt = context.options();
+  // ---- Validate the inputs at the boundary ---------------------------------------------
+  std::string error;
+  if (!K.IsValid(&error)) return InvalidArgument(error);
+  if (depth.width != K.width || depth.height != K.height ||
+      depth.depth_m.size() != static_cast<size_t>(depth.width) * depth.height) {
+    return InvalidArgument("depth image is " + std::to_string(depth.width) + "x" + std::to_string(depth.height) +
+                           " but the intrinsics say " + std::to_string(K.width) + "x" + std::to_string(K.height));
+  }
+  MCPOSE_RETURN_IF_ERROR(mesh.Validate("mesh"));
+  if (boxes.empty()) return InvalidArgument("no boxes given");
+  for (size_t b = 0; b < boxes.size(); ++b) {
+    const std::string where = "box " + std::to_string(b) + " of obj_id " + std::to_string(boxes[0].obj_id) + ": ";
+    if (boxes[b].obj_id != boxes[0].obj_id) return InvalidArgument(where + "boxes of different classes given");
+    if (Status s = CheckBox(boxes[b], K); !s.ok()) return InvalidArgument(where + s.message());
+  }
+
+  std::unique_ptr<BoxScorer> scorer(new BoxScorer(context));
+  BoxScorer& s = *scorer;
+  s.K_ = K;
+  s.mesh_ = &mesh;
+  s.detections_.assign(boxes.begin(), boxes.end());
+  // ---- Depth distributor: each box's observed depth, cut out once -----------------------
+  for (const Detection& d : boxes) {
+    const render::PixelRect rect = ClipBox(d.x, d.y, d.w, d.h, K.width, K.height);
+    s.depth_.push_back(score::DistributeDepth(depth, K, rect, d.score, opt.weight.inlier, BoxStride(rect, opt.engine)));
+  }
+  // ---- Level of detail: per box, the coarsest mesh within the pixel error budget ----------
+  s.lod_ = context.Lod(mesh);
+  for (size_t b = 0; b < boxes.size(); ++b) {
+    backends::BoxTarget target{&s.depth_[b], &mesh, nullptr};
+    const render::LodLevel* level = nullptr;
+    if (s.lod_) {
+      level = &s.lod_->level(SelectLodLevel(*s.lod_, K, mesh, boxes[b], s.depth_[b], opt));
+      target.mesh = &level->mesh;
+      if (opt.engine.cluster_culling) target.clusters = &level->clusters;
+    }
+    s.levels_.push_back(level);
+    s.targets_.push_back(target);
+  }
+  s.settings_.inlier_mode = opt.weight.inlier;
+  s.settings_.eps_m = static_cast<float>(opt.weight.eps_m);
+  s.settings_.cull_backfaces = opt.engine.backface_culling;
+  s.settings_.batched_setup = opt.engine.batched_setup;
+  return scorer;
+}
+
+int64_t BoxScorer::depth_pixels_read() const {
+  render::PixelRect u = depth_[0].image_rect;
+  for (const score::BoxDepth& b : depth_) {
+    const auto& r = b.image_rect;
+    u.x0 = std::min(u.x0, r.x0), u.y0 = std::min(u.y0, r.y0), u.x1 = std::max(u.x1, r.x1), u.y1 = std::max(u.y1, r.y1);
+  }
+  std::vector<char> covered(static_cast<size_t>(u.area()), 0);
+  for (const score::BoxDepth& b : depth_) {
+    const auto& r = b.image_rect;
+    for (int y = r.y0; y < r.y1; y += b.stride)
+      for (int x = r.x0; x < r.x1; x += b.stride) covered[static_cast<size_t>(y - u.y0) * u.width() + (x - u.x0)] = 1;
+  }
+  return std::count(covered.begin(), covered.end(), 1);
+}
+
+void BoxScorer::Count(const filter::ParticleSet& particles, std::span<score::InlierCounts> counts,
+                      EngineCounters* counters) {
+  render::RasterStats stats;
+  context_->cores().Score(targets_, settings_, particles, counts, &stats);
+  counters->triangles_full += static_cast<int64_t>(mesh_->triangles.size()) * static_cast<int64_t>(particles.size());
+  counters->triangles_in += stats.triangles;
+  counters->culled_backface += stats.culled_backface;
+  counters->culled_degenerate += stats.culled_degenerate;
+  counters->culled_outside_box += stats.culled_outside_box;
+  counters->culled_near += stats.culled_near;
+  counters->culled_between_pixels += stats.culled_between_pixels;
+  counters->triangles_rasterized += stats.rasterized;
+  counters->fragments += stats.fragments;
+  counters->clusters += stats.clusters;
+  counters->clusters_culled_backface += stats.clusters_culled_backface;
+  counters->clusters_culled_outside_box += stats.clusters_culled_outside_box;
+}
+
+void BoxScorer::Weigh(filter::ParticleSet* particles, EngineCounters* counters) {
+  filter::ParticleSet& p = *particles;
+  counts_.resize(p.size());
+  Count(p, counts_, counters);
+  const WeightOptions& w = context_->options().weight;
+  for (size_t i = 0; i < p.size(); ++i) p.weight[i] = score::Weight(counts_[i], depth_[p.box[i]].score, w);
+}
+
+}  // namespace mcpose::engine

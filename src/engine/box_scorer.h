@@ -1,0 +1,79 @@
+// The scoring seam: everything between one object class's boxes in one image and the weight of
+// a pose hypothesis. Built once per estimate, it clips and checks the boxes, cuts out their
+// observed depth (the depth distributor), picks each box's mesh level and culling clusters, and
+// then renders, counts and weighs batches of samples on the context's raster cores. The
+// estimator, `mcpose bench` and the diagnostics all score through it.
+#pragma once
+
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "backends/backend.h"
+#include "engine/context.h"
+#include "filter/particles.h"
+#include "mcpose/camera.h"
+#include "mcpose/detection.h"
+#include "mcpose/estimator.h"
+#include "mcpose/image.h"
+#include "mcpose/mesh.h"
+#include "mcpose/status.h"
+#include "render/lod.h"
+#include "score/box_depth.h"
+
+namespace mcpose::engine {
+
+// Clips a detection box [x, x + w) x [y, y + h) to the image and rounds it outwards to whole
+// pixels. Returns an empty rect if nothing of it lies in the image.
+render::PixelRect ClipBox(double x, double y, double w, double h, int width, int height);
+// Ok, or an error saying what is wrong with the box: a non-finite or negative score, a
+// non-finite or empty box, or one that lies outside the image.
+Status CheckBox(const Detection& d, const Intrinsics& K);
+// The pixel stride of a box: options.pixel_stride, or the smallest larger one whose grid holds
+// at most options.max_grid_pixels pixels (when that is > 0).
+int BoxStride(const render::PixelRect& rect, const EngineOptions& options);
+
+class BoxScorer {
+ public:
+  // Checks the inputs (intrinsics, depth size, mesh, boxes: all of one class, each per
+  // CheckBox) and prepares every box. Errors name the box.
+  static StatusOr<std::unique_ptr<BoxScorer>> Create(Context& context, const Intrinsics& K,
+                                                     const DepthImage& depth, const Mesh& mesh,
+                                                     std::span<const Detection> boxes);
+  BoxScorer(const BoxScorer&) = delete;
+  BoxScorer& operator=(const BoxScorer&) = delete;
+
+  const Intrinsics& K() const { return K_; }
+  const Mesh& mesh() const { return *mesh_; }
+  int obj_id() const { return detections_.front().obj_id; }
+  int num_boxes() const { return static_cast<int>(detections_.size()); }
+  const Detection& detection(int b) const { return detections_[static_cast<size_t>(b)]; }
+  const score::BoxDepth& box_depth(int b) const { return depth_[static_cast<size_t>(b)]; }
+  // The mesh box b renders (its LOD level, or the full mesh) and that level (null without LOD).
+  const Mesh& box_mesh(int b) const { return *targets_[static_cast<size_t>(b)].mesh; }
+  const render::LodLevel* box_level(int b) const { return levels_[static_cast<size_t>(b)]; }
+  // Observed depth pixels cut out for all boxes: the union of their sample grids.
+  int64_t depth_pixels_read() const;
+
+  // Steps 2 and 3 of the filter: counts[i] = the inlier counts of particle i rendered in its
+  // box, then particles->weight[i] its weight. Add the engine's counters to *counters.
+  void Count(const filter::ParticleSet& particles, std::span<score::InlierCounts> counts, EngineCounters* counters);
+  void Weigh(filter::ParticleSet* particles, EngineCounters* counters);
+
+ private:
+  explicit BoxScorer(Context& context) : context_(&context) {}
+
+  Context* context_;
+  Intrinsics K_;
+  const Mesh* mesh_ = nullptr;
+  std::vector<Detection> detections_;
+  std::vector<score::BoxDepth> depth_;
+  std::shared_ptr<const render::LodChain> lod_;
+  std::vector<const render::LodLevel*> levels_;
+  std::vector<backends::BoxTarget> targets_;
+  backends::SampleSettings settings_;
+  std::vector<score::InlierCounts> counts_;  // Weigh's
+};
+
+}  // namespace mcpose::engine

@@ -1,0 +1,100 @@
+#include "engine/box_scorer.h"
+
+#include <cmath>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "core/rng.h"
+#include "engine/initialize.h"
+#include "score/weight.h"
+#include "synthetic_mesh.h"
+
+namespace mcpose::engine {
+namespace {
+
+struct Scene {
+  Intrinsics K{600, 600, 160, 120, 320, 240};
+  DepthImage depth;
+  Mesh mesh = testing::Blob();
+};
+
+Scene MakeScene() {
+  Scene s;
+  s.depth.width = 320, s.depth.height = 240;
+  s.depth.depth_m.resize(320 * 240);
+  Rng rng(4, 4);
+  for (float& z : s.depth.depth_m) z = static_cast<float>(rng.Uniform(0.5, 0.7));
+  return s;
+}
+
+TEST(BoxScorer, PreparesEachBoxAsTheOptionsSay) {
+  const Scene s = MakeScene();
+  EstimatorOptions o;
+  o.engine.pixel_stride = 2;
+  o.engine.max_grid_pixels = 1000;
+  Context context(o);
+  // A small box at the grid stride, a large one sampled more coarsely; they overlap.
+  const std::vector<Detection> boxes = {Detection{1, 1, 5, 0.9, 100, 80, 40, 30},
+                                        Detection{1, 1, 5, 0.4, 90.5, 70, 150, 120}};
+  auto scorer = BoxScorer::Create(context, s.K, s.depth, s.mesh, boxes);
+  ASSERT_TRUE(scorer.ok()) << scorer.status().ToString();
+  const BoxScorer& b = **scorer;
+  EXPECT_EQ(b.num_boxes(), 2);
+  EXPECT_EQ(b.obj_id(), 5);
+  EXPECT_EQ(b.box_depth(0).stride, 2);
+  EXPECT_EQ(b.box_depth(1).stride, 5);  // 151 x 120 pixels: 31 x 24 grid pixels at stride 5
+  EXPECT_EQ(b.box_depth(1).image_rect.x0, 90);  // rounded outwards
+  EXPECT_EQ(b.box_depth(1).image_rect.x1, 241);
+  EXPECT_EQ(b.box_depth(0).score, 0.9);
+  // Both boxes render a LOD level of the blob, with its clusters.
+  ASSERT_NE(b.box_level(0), nullptr);
+  EXPECT_EQ(&b.box_mesh(0), &b.box_level(0)->mesh);
+  EXPECT_LE(b.box_mesh(0).triangles.size(), s.mesh.triangles.size());
+  // The depth distributor reads the union of the two sample grids.
+  const int64_t small = 20 * 15, large = 31 * 24;
+  EXPECT_GT(b.depth_pixels_read(), large);
+  EXPECT_LT(b.depth_pixels_read(), small + large);
+}
+
+TEST(BoxScorer, WeighGivesEachSampleTheWeightOfItsCounts) {
+  const Scene s = MakeScene();
+  EstimatorOptions o;
+  o.samples = 64;
+  Context context(o);
+  const std::vector<Detection> boxes = {Detection{1, 1, 5, 0.8, 110, 70, 100, 100}};
+  auto scorer = BoxScorer::Create(context, s.K, s.depth, s.mesh, boxes);
+  ASSERT_TRUE(scorer.ok());
+  filter::ParticleSet p;
+  InitializeSamples(**scorer, o, 3, &p);
+  std::vector<score::InlierCounts> counts(p.size());
+  EngineCounters c1, c2;
+  (*scorer)->Count(p, counts, &c1);
+  (*scorer)->Weigh(&p, &c2);
+  for (size_t i = 0; i < p.size(); ++i) EXPECT_EQ(p.weight[i], score::Weight(counts[i], 0.8, o.weight));
+  EXPECT_EQ(c1.fragments, c2.fragments);
+  EXPECT_GT(c1.fragments, 0);
+  EXPECT_EQ(c1.triangles_full, static_cast<int64_t>(s.mesh.triangles.size()) * o.samples);
+}
+
+TEST(BoxScorer, RejectsBadInputNamingTheBox) {
+  const Scene s = MakeScene();
+  Context context(EstimatorOptions{});
+  auto check = [&](std::vector<Detection> boxes, const std::string& phrase) {
+    auto r = BoxScorer::Create(context, s.K, s.depth, s.mesh, boxes);
+    ASSERT_FALSE(r.ok()) << phrase;
+    EXPECT_NE(r.status().message().find(phrase), std::string::npos) << r.status().message();
+  };
+  check({}, "no boxes");
+  check({Detection{1, 1, 5, 0.9, 500, 10, 20, 20}}, "box 0 of obj_id 5: box [500, 10, 20, 20] lies outside");
+  check({Detection{1, 1, 5, 0.9, 10, 10, 20, 20}, Detection{1, 1, 5, -1, 10, 10, 20, 20}}, "box 1 of obj_id 5: score");
+  check({Detection{1, 1, 5, 0.9, 10, 10, INFINITY, 20}}, "positive size");
+  check({Detection{1, 1, 5, 0.9, 10, 10, 20, 20}, Detection{1, 1, 6, 0.9, 10, 10, 20, 20}}, "different classes");
+  DepthImage small = s.depth;
+  small.width = 100;
+  EXPECT_FALSE(BoxScorer::Create(context, s.K, small, s.mesh, std::vector<Detection>{{1, 1, 5, 0.9, 1, 1, 5, 5}}).ok());
+  EXPECT_FALSE(BoxScorer::Create(context, s.K, s.depth, Mesh{}, std::vector<Detection>{{1, 1, 5, 0.9, 1, 1, 5, 5}}).ok());
+}
+
+}  // namespace
+}  // namespace mcpose::engine

@@ -1,0 +1,35 @@
+#include "engine/context.h"
+
+#include "core/check.h"
+
+namespace mcpose::engine {
+
+Context::Context(const EstimatorOptions& options)
+    : options_(options), cores_(options.engine.threads, options.engine.backend) {
+  MCPOSE_CHECK(options.IsValid(nullptr));
+}
+
+std::shared_ptr<const render::LodChain> Context::Lod(const Mesh& mesh) {
+  if (!(options_.engine.lod_error_px > 0)) return nullptr;
+  const uint64_t key = render::MeshFingerprint(mesh);
+  {
+    std::lock_guard<std::mutex> lock(lod_mutex_);
+    if (auto it = lod_cache_.find(key); it != lod_cache_.end()) return it->second;
+  }
+  auto built = std::make_shared<const render::LodChain>(render::LodChain::Build(
+      mesh, options_.engine.lod_unbiased ? render::LodVertices::kUnbiased : render::LodVertices::kKept));
+  std::lock_guard<std::mutex> lock(lod_mutex_);
+  return lod_cache_.emplace(key, std::move(built)).first->second;
+}
+
+void Context::PrepareMeshes(std::span<const Mesh* const> meshes) {
+  if (!(options_.engine.lod_error_px > 0) || meshes.empty()) return;
+  pool().ParallelFor(
+      static_cast<int64_t>(meshes.size()),
+      [&](int64_t begin, int64_t end, int) {
+        for (int64_t i = begin; i < end; ++i) Lod(*meshes[static_cast<size_t>(i)]);
+      },
+      /*chunks_per_thread=*/static_cast<int>(meshes.size()));
+}
+
+}  // namespace mcpose::engine

@@ -1,0 +1,43 @@
+// The engine context: what every estimate of one configuration shares. It owns the raster
+// cores (thread pool, per-core scratch, the chosen backend) and the level-of-detail chains of
+// the meshes seen so far. The estimator, `mcpose bench` and the diagnostics each build one and
+// score through BoxScorer (engine/box_scorer.h); nothing else wires boxes to counts.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <span>
+
+#include "engine/raster_cores.h"
+#include "mcpose/mesh.h"
+#include "mcpose/options.h"
+#include "render/lod.h"
+
+namespace mcpose::engine {
+
+class Context {
+ public:
+  // `options` must be valid (EstimatorOptions::IsValid).
+  explicit Context(const EstimatorOptions& options);
+
+  const EstimatorOptions& options() const { return options_; }
+  RasterCores& cores() { return cores_; }
+  ThreadPool& pool() { return cores_.pool(); }
+
+  // The LOD chain of `mesh`, built on first use and cached by the mesh's content; null with
+  // LOD off. Thread-safe: chains are built outside the lock, and a chain built twice at the
+  // same time is the same chain (the first is kept).
+  std::shared_ptr<const render::LodChain> Lod(const Mesh& mesh);
+  // Builds the chains of these meshes now, one mesh per raster core.
+  void PrepareMeshes(std::span<const Mesh* const> meshes);
+
+ private:
+  EstimatorOptions options_;
+  RasterCores cores_;
+  std::mutex lod_mutex_;
+  std::map<uint64_t, std::shared_ptr<const render::LodChain>> lod_cache_;
+};
+
+}  // namespace mcpose::engine

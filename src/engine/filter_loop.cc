@@ -1,0 +1,80 @@
+#include "engine/filter_loop.h"
+
+#include <algorithm>
+#include <chrono>
+
+#include "engine/initialize.h"
+#include "filter/next_generation.h"
+#include "filter/resample.h"
+
+namespace mcpose::engine {
+
+namespace {
+
+// Substream of the per-sample random streams of resampling + diffusion (plus the iteration).
+constexpr uint64_t kStepStream = 0xD1FF05E;
+
+using Clock = std::chrono::steady_clock;
+double MsSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+}  // namespace
+
+ObjectEstimate RunFilter(BoxScorer& scorer, const EstimatorOptions& opt, ThreadPool& pool, uint64_t stream_id,
+                         const IterationObserver& observer) {
+  ObjectEstimate result;
+  result.obj_id = scorer.obj_id();
+  result.best_weight = -1;
+  for (int b = 0; b < scorer.num_boxes(); ++b)
+    result.box_triangles.push_back(static_cast<int>(scorer.box_mesh(b).triangles.size()));
+  result.depth_pixels_read = scorer.depth_pixels_read();
+  const Mesh& mesh = scorer.mesh();
+  filter::DiffusionStep step;
+  step.flip_rate = opt.diffusion.flip_rate;
+  step.flip_center = (0.5f * (mesh.BoundsMin() + mesh.BoundsMax())).cast<double>();
+
+  // 1. Initialize: samples over the boxes in proportion to score.
+  filter::ParticleSet particles[2];
+  InitializeSamples(scorer, opt, stream_id, &particles[0]);
+  filter::CdfSampler sampler;
+  for (int iter = 0, cur = 0; iter < opt.max_iterations; ++iter, cur = 1 - cur) {
+    filter::ParticleSet& p = particles[cur];
+    IterationSummary& it = result.iterations.emplace_back();
+    const Clock::time_point start = Clock::now();
+
+    // 2-3. Render each sample in its box, count its inliers, weigh it.
+    scorer.Weigh(&p, &it.counters);
+    it.score_ms = MsSince(start);
+    if (observer) observer(iter, p);
+    double sum = 0;
+    it.best_weight = -1;
+    for (size_t i = 0; i < p.size(); ++i) {
+      sum += p.weight[i];
+      it.best_weight = std::max(it.best_weight, p.weight[i]);
+      if (p.weight[i] > result.best_weight) {  // ties: the earliest sample seen
+        result.best_weight = p.weight[i];
+        result.T_cam_obj = p.Pose(i);
+        result.best_box = p.box[i];
+      }
+    }
+    it.mean_weight = sum / static_cast<double>(p.size());
+
+    // 6. Stop when the samples agree with the frame well enough (or at the limit).
+    if (it.mean_weight > opt.tau || iter + 1 == opt.max_iterations) {
+      it.iteration_ms = MsSince(start);
+      break;
+    }
+    // 4. Resample by the sorted CDF and its coarse table; 5. diffuse into the other buffer.
+    sampler.Build(p.weight, opt.resample.keep_top_fraction, opt.resample.cdf_table_size);
+    const DiffusionOptions& d = opt.diffusion;
+    step.sigma_r_rad = filter::AnnealedSigma(d.sigma_r_rad, d.sigma_r_min_rad, d.anneal, iter);
+    step.sigma_t_m = filter::AnnealedSigma(d.sigma_t_m, d.sigma_t_min_m, d.anneal, iter);
+    it.counters.cdf_reads += filter::NextGeneration(p, sampler, step, opt.seed, stream_id,
+                                                    kStepStream + static_cast<uint64_t>(iter), pool,
+                                                    &particles[1 - cur]);
+    it.counters.cdf_draws += static_cast<int64_t>(p.size());
+    it.iteration_ms = MsSince(start);
+  }
+  return result;
+}
+
+}  // namespace mcpose::engine

@@ -1,0 +1,24 @@
+// The paper's sequential Monte-Carlo loop for one object class in one image.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+
+#include "engine/box_scorer.h"
+#include "filter/particles.h"
+#include "mcpose/estimator.h"
+#include "mcpose/options.h"
+
+namespace mcpose::engine {
+
+// Called after each iteration's weights, with the iteration's index and its weighted samples
+// (`mcpose bench` reads them to compare resamplers); may be empty.
+using IterationObserver = std::function<void(int iteration, const filter::ParticleSet& weighted)>;
+
+// Initialize, then score, weigh, resample and diffuse until the mean weight exceeds tau or
+// max_iterations; the answer is the best-weighted sample ever seen. Depends on
+// (options.seed, stream_id) only, never on the thread count.
+ObjectEstimate RunFilter(BoxScorer& scorer, const EstimatorOptions& options, ThreadPool& pool, uint64_t stream_id,
+                         const IterationObserver& observer = {});
+
+}  // namespace mcpose::engine

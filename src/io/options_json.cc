@@ -1,0 +1,61 @@
+#include "io/options_json.h"
+
+namespace mcpose::io {
+
+nlohmann::json OptionsToJson(const EstimatorOptions& o) {
+  const auto& w = o.weight;
+  const auto& d = o.diffusion;
+  const auto& e = o.engine;
+  return {
+      {"samples", o.samples},
+      {"max_iterations", o.max_iterations},
+      {"tau", o.tau},
+      {"seed", o.seed},
+      {"init", {{"depth_quantile", o.init.depth_quantile}, {"sigma_t_m", o.init.sigma_t_m}}},
+      {"weight",
+       {{"inlier", w.inlier == InlierMode::k1D ? "1d" : "3d"},
+        {"eps_m", w.eps_m},
+        {"a", w.a},
+        {"b", w.b},
+        {"c", w.c},
+        {"occlusion_aware", w.occlusion_aware}}},
+      {"resample",
+       {{"keep_top_fraction", o.resample.keep_top_fraction}, {"cdf_table_size", o.resample.cdf_table_size}}},
+      {"diffusion",
+       {{"sigma_t_m", d.sigma_t_m},
+        {"sigma_r_rad", d.sigma_r_rad},
+        {"sigma_t_min_m", d.sigma_t_min_m},
+        {"sigma_r_min_rad", d.sigma_r_min_rad},
+        {"anneal", d.anneal},
+        {"flip_rate", d.flip_rate}}},
+      {"engine",
+       {{"backend", RasterBackendName(e.backend)},
+        {"backface_culling", e.backface_culling},
+        {"pixel_stride", e.pixel_stride},
+        {"max_grid_pixels", e.max_grid_pixels},
+        {"lod_error_px", e.lod_error_px},
+        {"lod_unbiased", e.lod_unbiased},
+        {"cluster_culling", e.cluster_culling},
+        {"batched_setup", e.batched_setup},
+        {"threads", e.threads}}},
+  };
+}
+
+nlohmann::json CountersToJson(const EngineCounters& c) {
+  return {{"triangles_full", c.triangles_full},
+          {"triangles_in", c.triangles_in},
+          {"culled_backface", c.culled_backface},
+          {"culled_degenerate", c.culled_degenerate},
+          {"culled_outside_box", c.culled_outside_box},
+          {"culled_near", c.culled_near},
+          {"culled_between_pixels", c.culled_between_pixels},
+          {"triangles_rasterized", c.triangles_rasterized},
+          {"fragments", c.fragments},
+          {"clusters", c.clusters},
+          {"clusters_culled_backface", c.clusters_culled_backface},
+          {"clusters_culled_outside_box", c.clusters_culled_outside_box},
+          {"cdf_draws", c.cdf_draws},
+          {"cdf_reads", c.cdf_reads}};
+}
+
+}  // namespace mcpose::io

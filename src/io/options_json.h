@@ -1,0 +1,17 @@
+// EstimatorOptions and EngineCounters as JSON, the one place that names their fields for
+// files (`mcpose estimate --out-json`, `mcpose bench --json`).
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include "mcpose/estimator.h"
+#include "mcpose/options.h"
+
+namespace mcpose::io {
+
+// {"samples", "max_iterations", "tau", "seed", "init": {...}, "weight": {...}, "resample": {...},
+//  "diffusion": {...}, "engine": {...}}, field names as in options.h.
+nlohmann::json OptionsToJson(const EstimatorOptions& options);
+nlohmann::json CountersToJson(const EngineCounters& counters);
+
+}  // namespace mcpose::io

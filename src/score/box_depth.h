@@ -1,0 +1,41 @@
+// The depth distributor: one box's observed depth, cut out of the frame once and shared by
+// every raster core and every iteration.
+//
+// Pixel stride s: the box is scored on a grid of every s-th image pixel in x and y, starting at
+// its top-left pixel. The raster cores render into that grid as into a smaller image, through
+// `K_grid`, whose pixel (x0 + i, y0 + j) is centred on image pixel (x0 + s i, y0 + s j): the
+// same rays, s^2 times fewer of them. At s = 1, rect = image_rect and K_grid = the camera.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "mcpose/camera.h"
+#include "mcpose/image.h"
+#include "mcpose/options.h"
+#include "render/raster.h"
+#include "score/inlier.h"
+
+namespace mcpose::score {
+
+struct BoxDepth {
+  render::PixelRect rect;        // the raster rect, grid pixels
+  render::PixelRect image_rect;  // the box in image pixels
+  int stride = 1;
+  Intrinsics K_grid;             // projection onto the grid (fx / s, fy / s, shifted centre)
+  std::vector<float> observed;         // rect-sized, metres, 0 = invalid
+  std::vector<float> observed_or_nan;  // the same with NaN where invalid (the SIMD counter)
+  int32_t n_observed = 0;              // N_b
+  double score = 0;                    // detector confidence
+  std::unique_ptr<ObservedCloud> cloud;  // only for InlierMode::k3D
+};
+
+// The BoxDepth of `rect` (image pixels, inside the image) at pixel stride `stride` >= 1.
+BoxDepth DistributeDepth(const DepthImage& depth, const Intrinsics& K, const render::PixelRect& rect,
+                         double score, InlierMode mode, int stride = 1);
+
+// The raster-core parameters of a box: its grid projection and rect.
+render::RasterParams BoxRasterParams(const BoxDepth& box, bool cull_backfaces);
+
+}  // namespace mcpose::score

@@ -1,0 +1,22 @@
+#include <cstdio>
+
+#include "tools.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "mcpose-tools: diagnostics of the depth-only likelihood on real frames (for developers of mcpose)."};
+  app.require_subcommand(1);
+  mcpose::Status status;
+  mcpose::tools::AddAmbiguityCommand(app, &status);
+  mcpose::tools::AddTurnProfileCommand(app, &status);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  if (!status.ok()) {
+    std::fprintf(stderr, "mcpose-tools: error: %s\n", status.ToString().c_str());
+    return 1;
+  }
+  return 0;
+}
