@@ -4,8 +4,8 @@
 The seeds of scripts/accuracy_seeds.sh are whole runs; their ADD(-S) < 4 cm shares (summary.tsv)
 say how much two engine options differ, not where. This keeps one line per seed and instance in
 out/seeds/instances.tsv (tag, seed, scene, image, object id and name, ADD(-S) in metres,
-success: ADD(-S) < 4 cm, and ADD-S < 4 cm, a column that lines written before 2026-12-03's
-twelfth session lack) and compares two tags object by object.
+success: ADD(-S) < 4 cm, and ADD-S < 4 cm, a column that older lines may lack) and compares two
+tags object by object.
 
 Each (image, class) draws from its own random streams (Estimator::Estimate's stream_id), so an
 instance's result depends on the seed and the options only, not on the other boxes of the run:
@@ -165,7 +165,7 @@ def compare(tag_a, tag_b, tsv, adds=False, instances=False, main_job_instances=1
     for t in (tag_a, tag_b):
         data[t] = {key: list(outcomes.values()) for key, outcomes in pooled(loaded, t, tsv).items()}
         if not data[t]:  # only where every line of t predates the ADD-S column
-            fail(f"{tsv}: {t} has no line with the ADD-S column (written before 2026-12-03)")
+            fail(f"{tsv}: {t} has no line with the ADD-S column")
     common, per_object = shared_instances(data, tag_a, tag_b)
     print(f"Expected successes, {'ADD-S' if adds else 'ADD(-S)'} < 4 cm")
     print(f"{'object':24} inst  seeds A  seeds B | {tag_a[:12]:>12} {tag_b[:12]:>12} | A - B (SE)")

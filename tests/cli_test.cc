@@ -472,7 +472,7 @@ TEST(Cli, EvalScoresGroundTruthDetectionsRunOnBothLayouts) {
 }
 
 // The tuna can of 49/1 turned about its axis: the full mesh at every pixel jitters less from one
-// turn to the next than the defaults' level of detail at pixel stride 2 (the README's turn profiles).
+// turn to the next than the defaults' level of detail at pixel stride 2 (docs/engine-notes.md, turn profiles).
 TEST(Cli, TurnProfileOfTheTunaCan) {
   const fs::path dir = testing::TempDir("turn_profile");
   WriteText(dir / "d.json", Scene49Detections().dump());

@@ -310,7 +310,7 @@ TEST(RasterCoresRealData, ClusterCullingGivesTheSameCounts) {
 
 // The LOD budget is in image pixels at any pixel stride: the mustard bottle (1/1) gets the same
 // level at strides 1, 2 and 3, its deviation is within the budget, and the next coarser level's
-// is not (a coarser scoring grid does not make a coarser mesh safe: README, accuracy).
+// is not (a coarser scoring grid does not make a coarser mesh safe: docs/engine-notes.md).
 TEST(LodRealData, LevelIsChosenInImagePixelsAtAnyStride) {
   ObjectInFrame o;
   ASSERT_NO_FATAL_FAILURE(LoadObjectInFrame(FrameKey{1, 1}, 5, &o));

@@ -150,7 +150,7 @@ TEST(RealData, GroundTruthPoseScoresInTopOnePercentOfRandomSamples) {
 // depth-equivalent turns (analysis/depth_ambiguity.h at the inlier tolerance, 1 cm on 90% of the
 // pixels) lie within 4 cm. The others (here the gelatin box, the sugar box, the tuna can and the
 // potted meat can, which flip or turn without changing their depth image) are a coin toss for
-// any depth-only estimator; the README reports them on the whole set.
+// any depth-only estimator; the README reports accuracy on the whole set.
 TEST(RealData, EstimationOnTwoFramesMeetsAccuracyBound) {
   auto ds = OpenYcbv();
   ASSERT_TRUE(ds);

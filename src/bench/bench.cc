@@ -84,7 +84,7 @@ std::string MachineDescriptionFrom(std::istream& cpuinfo, int hardware_threads) 
   if (model.empty()) model = "unknown CPU";
   // Virtual machines often report only the brand ("AMD EPYC"); family and model tell the
   // generations apart (AMD family 25: model 1 Zen 3, model 17 Zen 4), which ran mcpose 2x
-  // apart in speed (BENCHMARKS.md).
+  // apart in speed.
   if (!family.empty() && !model_number.empty()) model += " (family " + family + " model " + model_number + ")";
   return model + ", " + std::to_string(cpus ? cpus : hardware_threads) + " logical CPUs";
 }

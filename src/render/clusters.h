@@ -45,7 +45,7 @@ struct ClusterSet {
   std::vector<float> soa;
   size_t soa_stride = 0;
   static constexpr size_t kSoaLanes = 16;
-  static constexpr size_t kMaxTriangles = 16;  // see BENCHMARKS.md for 8, 16, 32, 64
+  static constexpr size_t kMaxTriangles = 16;  // 8, 32 and 64 measured slower: docs/engine-notes.md
   static constexpr size_t kMaxVertices = 16;
   // Every triangle of `mesh` lands in exactly one cluster (same vertex indices).
   static ClusterSet Build(const Mesh& mesh);

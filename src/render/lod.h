@@ -28,7 +28,7 @@ struct LodLevel {
 // Where a level's vertices lie. meshoptimizer keeps a subset of the full mesh's vertices, so a
 // level's triangles are chords of the full surface: inside it wherever it bulges, on average
 // (on the YCB-Video meshes the cracker box's 310-triangle level lies 0.19 mm inside, the
-// mustard bottle's 486-triangle one 0.20 mm; README, accuracy). kUnbiased then moves each
+// mustard bottle's 486-triangle one 0.20 mm; docs/engine-notes.md). kUnbiased then moves each
 // vertex along its normal, kUnbiasRounds times, by the area-weighted mean signed offset of the
 // full surface from the level triangles around it (SurfaceOffsets, render/surface_distance.h;
 // about kUnbiasSamplesPerTriangle samples of the full surface per level triangle), which takes
@@ -48,11 +48,9 @@ class LodChain {
   // meshoptimizer's own figure.
   // `mesh` must be valid (Mesh::Validate).
   static constexpr float kFirstErrorM = 0.00025f;
-  // The ratio of successive target errors. sqrt(2) was measured (BENCHMARKS.md, "The eighth
-  // session"): twice the levels, each chosen level closer to the budget, the tomato can's
-  // 1402 -> 792 triangles; the main job's ADD(-S) < 4 cm 40.9 % over 40 seeds, no better than
-  // the defaults' (+0.13 +- 0.61 points over their 109 seeds), and the tomato can still below
-  // 20x Embree. Not adopted.
+  // The ratio of successive target errors. sqrt(2) gives twice the levels, each chosen level
+  // closer to the budget (the tomato can's 1402 -> 792 triangles), but no better accuracy
+  // (docs/engine-notes.md).
   static constexpr float kErrorStep = 2.0f;
   static constexpr int kMaxLevels = 7;
   static constexpr size_t kMinTriangles = 64;
