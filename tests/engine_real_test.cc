@@ -24,7 +24,7 @@
 #include "render/clusters.h"
 #include "render/lod.h"
 #include "render/raster.h"
-#include "score/box_depth.h"
+#include "score/box_observation.h"
 #include "score/inlier.h"
 #include "raster_test_util.h"
 #include "test_data.h"
@@ -37,7 +37,7 @@ struct Rendered {
   score::InlierCounts counts;
 };
 
-Rendered RenderInBox(const Mesh& mesh, const SE3& T, const Intrinsics& K, const score::BoxDepth& box) {
+Rendered RenderInBox(const Mesh& mesh, const SE3& T, const Intrinsics& K, const score::BoxObservation& box) {
   render::RasterParams p;
   p.fx = K.fx, p.fy = K.fy, p.cx = K.cx, p.cy = K.cy;
   p.box = box.rect;
@@ -72,7 +72,7 @@ TEST(LodRealData, ChainShrinksAndChosenLevelRendersLikeTheFullMesh) {
     Detection d;
     ASSERT_GT(MaskBox(*mask, &d), 0);
     d.obj_id = gt.obj_id, d.score = 1;
-    const score::BoxDepth box = score::DistributeDepth(
+    const score::BoxObservation box = score::DistributeBox(
         frame->depth, K, engine::ClipBox(d.x, d.y, d.w, d.h, K.width, K.height), 1.0, InlierMode::k1D);
     const double z = engine::InitialDepth(K, *mesh, d, box, 0.5);
     const int level = chain.Select(render::LodErrorBudgetM(1.0f, static_cast<float>(z),
@@ -140,11 +140,11 @@ filter::ParticleSet Samples(const ObjectInFrame& o, const Detection& d, int samp
 // The raster cores' input when every box renders one mesh (a LOD level), with or without its
 // culling clusters.
 struct LevelTargets {
-  LevelTargets(const render::LodLevel& level, std::span<const score::BoxDepth> boxes, bool clusters) {
-    for (const score::BoxDepth& b : boxes) targets.push_back({&b, &level.mesh, clusters ? &level.clusters : nullptr});
+  LevelTargets(const render::LodLevel& level, std::span<const score::BoxObservation> boxes, bool clusters) {
+    for (const score::BoxObservation& b : boxes) targets.push_back({&b, &level.mesh, clusters ? &level.clusters : nullptr});
   }
-  LevelTargets(const Mesh& mesh, std::span<const score::BoxDepth> boxes) {
-    for (const score::BoxDepth& b : boxes) targets.push_back({&b, &mesh, nullptr});
+  LevelTargets(const Mesh& mesh, std::span<const score::BoxObservation> boxes) {
+    for (const score::BoxObservation& b : boxes) targets.push_back({&b, &mesh, nullptr});
   }
   void SetClusters(const render::ClusterSet* clusters) {
     for (auto& t : targets) t.clusters = clusters;
@@ -160,8 +160,8 @@ TEST(RasterCoresRealData, CountsEqualAWholeBoxRenderForEveryBackendAndLod) {
   const auto& mesh = o.mesh;
   const Intrinsics& K = frame->K;
   const Detection& d = o.box;
-  std::vector<score::BoxDepth> boxes;
-  boxes.push_back(score::DistributeDepth(frame->depth, K, engine::ClipBox(d.x, d.y, d.w, d.h, K.width, K.height),
+  std::vector<score::BoxObservation> boxes;
+  boxes.push_back(score::DistributeBox(frame->depth, K, engine::ClipBox(d.x, d.y, d.w, d.h, K.width, K.height),
                                           1.0, InlierMode::k1D));
   const filter::ParticleSet particles = Samples(o, d, 200, 7);
   const render::LodChain chain = render::LodChain::Build(*mesh);
@@ -210,9 +210,9 @@ TEST(RasterCoresRealData, StrideTwoGridMatchesTheFullRenderAtTheGridPixels) {
   const Intrinsics& K = frame->K;
   const Detection& d = o.box;
   const render::PixelRect rect = engine::ClipBox(d.x, d.y, d.w, d.h, K.width, K.height);
-  std::vector<score::BoxDepth> grid, full;
-  grid.push_back(score::DistributeDepth(frame->depth, K, rect, 1.0, InlierMode::k1D, 2));
-  full.push_back(score::DistributeDepth(frame->depth, K, rect, 1.0, InlierMode::k1D, 1));
+  std::vector<score::BoxObservation> grid, full;
+  grid.push_back(score::DistributeBox(frame->depth, K, rect, 1.0, InlierMode::k1D, 2));
+  full.push_back(score::DistributeBox(frame->depth, K, rect, 1.0, InlierMode::k1D, 1));
   EXPECT_EQ(grid[0].rect.width(), (rect.width() + 1) / 2);
   EXPECT_EQ(grid[0].rect.height(), (rect.height() + 1) / 2);
   for (int j = 0; j < grid[0].rect.height(); ++j)
@@ -259,8 +259,8 @@ TEST(RasterCoresRealData, ClusterCullingGivesTheSameCounts) {
     const Intrinsics& K = o.frame->K;
     const Detection& d = o.box;
     for (int stride : {1, 2}) {
-      std::vector<score::BoxDepth> boxes;
-      boxes.push_back(score::DistributeDepth(o.frame->depth, K, engine::ClipBox(d.x, d.y, d.w, d.h, K.width, K.height),
+      std::vector<score::BoxObservation> boxes;
+      boxes.push_back(score::DistributeBox(o.frame->depth, K, engine::ClipBox(d.x, d.y, d.w, d.h, K.width, K.height),
                                               1.0, InlierMode::k1D, stride));
       const filter::ParticleSet particles = Samples(o, d, 300, 11);
       const render::LodChain chain = render::LodChain::Build(*o.mesh);
@@ -320,7 +320,7 @@ TEST(LodRealData, LevelIsChosenInImagePixelsAtAnyStride) {
   EstimatorOptions opt;
   int first = -1;
   for (int stride : {1, 2, 3}) {
-    const score::BoxDepth box = score::DistributeDepth(
+    const score::BoxObservation box = score::DistributeBox(
         o.frame->depth, K, engine::ClipBox(d.x, d.y, d.w, d.h, K.width, K.height), 1.0, InlierMode::k1D, stride);
     const int level = engine::SelectLodLevel(chain, K, *o.mesh, d, box, opt);
     if (first < 0) first = level;
@@ -347,8 +347,8 @@ TEST(RasterCoresRealData, NarrowBoxesCountAsTheFixedPointCore) {
     for (int width = 1; width <= 20; ++width) {
       Detection d = o.box;
       d.x += 0.5 * (d.w - width), d.w = width;  // a strip through the middle of the object
-      std::vector<score::BoxDepth> boxes;
-      boxes.push_back(score::DistributeDepth(o.frame->depth, K,
+      std::vector<score::BoxObservation> boxes;
+      boxes.push_back(score::DistributeBox(o.frame->depth, K,
                                               engine::ClipBox(d.x, d.y, d.w, d.h, K.width, K.height), 1.0,
                                               InlierMode::k1D, stride));
       const filter::ParticleSet particles = Samples(o, d, 100, 13);

@@ -1,7 +1,9 @@
 // Datasets: the YCB-Video native layout and the BOP layout behind one interface.
 //
 // Ids are BOP ids in both layouts: scene_id = video number (data/0049 -> 49), image_id = frame
-// number (000001 -> 1), obj_id = YCB-Video cls_index (1-based line of classes.txt).
+// number (000001 -> 1), obj_id = YCB-Video cls_index (1-based line of classes.txt). YCB-Video's
+// synthetic frames (data_syn/NNNNNN) have scene_id kSyntheticScene; they are not among Frames()
+// but load like any other frame (appearance capture reads them).
 // Everything comes out in metres, whatever the file stores.
 #pragma once
 
@@ -39,14 +41,19 @@ struct Frame {
 
 enum class DatasetFormat { kYcbv, kBop };
 
+inline constexpr int kSyntheticScene = -1;
+
 class Dataset {
  public:
   virtual ~Dataset() = default;
 
   // Detects the layout of `root`: YCB-Video if it holds classes.txt and data/, BOP if it holds
   // models/models_info.json and a `split` folder. Errors name the folder and what is missing.
-  static StatusOr<std::unique_ptr<Dataset>> Open(const std::string& root,
-                                                 const std::string& split = "test");
+  // `models_dir`, when not empty, replaces root/models as the folder meshes are read from (a
+  // folder in the same layout, e.g. one `mcpose capture-appearance` wrote); the objects, their
+  // names and the evaluation points stay the dataset's own.
+  static StatusOr<std::unique_ptr<Dataset>> Open(const std::string& root, const std::string& split = "test",
+                                                 const std::string& models_dir = "");
 
   virtual DatasetFormat format() const = 0;
   virtual const std::string& root() const = 0;
@@ -56,6 +63,16 @@ class Dataset {
   // Depth (metres), intrinsics and ground truth of one frame. Validates the depth PNG
   // (16-bit, one channel, size matching the intrinsics) and the intrinsics.
   virtual StatusOr<Frame> LoadFrame(const FrameKey& key) const = 0;
+  // The colour image of a loaded frame as RGBA (YCB-Video `-color.png`, BOP `rgb/` PNG or
+  // JPEG). Errors name the file: missing, truncated, not 8-bit, or of another size than the
+  // frame's depth image.
+  virtual StatusOr<ColourImage> LoadColour(const Frame& frame) const = 0;
+  // "0049/000001" (YCB-Video; "data_syn/000001" for a synthetic frame) or "000049/000001"
+  // (BOP): the name a frame list gives it, and back. ParseFrameName accepts the numbers with
+  // or without leading zeros and fails, naming the text, for a frame the dataset does not have.
+  virtual std::string FrameName(const FrameKey& key) const = 0;
+  virtual StatusOr<FrameKey> ParseFrameName(const std::string& name) const = 0;
+
   // Visible-part mask of ground-truth instance `gt_index` (label.png == obj_id in YCB-Video,
   // mask_visib/ in BOP). An all-zero mask is valid (object out of view).
   virtual StatusOr<MaskImage> LoadVisibleMask(const FrameKey& key, const GtInstance& gt) const = 0;
@@ -65,8 +82,14 @@ class Dataset {
   // "003_cracker_box" for YCB-Video; for BOP the YCB-Video name when the ids are YCB-Video's
   // (21 models), else "obj_000003".
   virtual std::string ObjectName(int obj_id) const = 0;
-  // The model mesh in metres, validated (Mesh::Validate). Unknown obj_id is an error.
+  // The model mesh in metres, validated (Mesh::Validate), with its appearance where the model
+  // has one (texture or vertex colours). Unknown obj_id is an error.
   virtual StatusOr<Mesh> LoadMesh(int obj_id) const = 0;
+  // Where LoadMesh reads obj_id's model: its folder (YCB-Video: models/<name>/) or file (BOP:
+  // models/obj_NNNNNN.ply), under the models folder in use.
+  virtual std::string ModelPath(int obj_id) const = 0;
+  // The models folder in use (root/models, or the `models_dir` given to Open).
+  virtual const std::string& models_dir() const = 0;
   // Points used by ADD / ADD-S, metres: points.xyz (YCB-Video) or the model vertices (BOP).
   virtual StatusOr<std::vector<Eigen::Vector3f>> LoadEvalPoints(int obj_id) const = 0;
 };

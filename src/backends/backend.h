@@ -20,7 +20,7 @@
 #include "render/clusters.h"
 #include "render/raster.h"
 #include "render/raster_fixed.h"
-#include "score/box_depth.h"
+#include "score/box_observation.h"
 #include "score/inlier.h"
 
 namespace mcpose::backends {
@@ -28,7 +28,7 @@ namespace mcpose::backends {
 // One box as every sample rendered in it sees it: its observed depth, the mesh (LOD level) it
 // renders and, optionally, that mesh's culling clusters.
 struct BoxTarget {
-  const score::BoxDepth* depth = nullptr;
+  const score::BoxObservation* observed = nullptr;
   const Mesh* mesh = nullptr;
   const render::ClusterSet* clusters = nullptr;  // null: walk every triangle
 };
@@ -55,7 +55,7 @@ class Backend {
   virtual ~Backend() = default;
   virtual RasterBackend kind() const = 0;
   // Renders the mesh of `box` at X_cam = R X + t into the box's z-buffer (scratch->zbuf,
-  // box.depth->rect sized) and counts the inliers against its observed depth. Adds to *stats.
+  // box.observed->rect sized) and counts the inliers against its observed depth. Adds to *stats.
   virtual score::InlierCounts ScoreSample(const BoxTarget& box, const Eigen::Matrix3f& R, const Eigen::Vector3f& t,
                                           const SampleSettings& settings, Scratch* scratch,
                                           render::RasterStats* stats) const = 0;
@@ -71,12 +71,12 @@ namespace steps {
 std::span<render::ScreenVertex> Prepare(const BoxTarget& box, Scratch* scratch);
 // `cover` (image-grid pixels, inside the box) relative to the box corner; the whole box for the
 // 3-D test, which reads every pixel.
-render::PixelRect RelativeCover(const score::BoxDepth& box, const render::PixelRect& cover, InlierMode mode);
+render::PixelRect RelativeCover(const score::BoxObservation& box, const render::PixelRect& cover, InlierMode mode);
 // Sets the z-buffer to +infinity inside `rel`, a pixel or a SIMD vector at a time.
 void ClearScalar(float* zbuf, int stride, const render::PixelRect& rel);
 // The inlier counts of the rendered z-buffer, reading only `rel` for the 1-D test (SIMD or
 // scalar counter: the same counts) and the whole box for the 3-D test.
-score::InlierCounts Count(const score::BoxDepth& box, const float* zbuf, const render::PixelRect& rel,
+score::InlierCounts Count(const score::BoxObservation& box, const float* zbuf, const render::PixelRect& rel,
                           const SampleSettings& settings, bool simd);
 
 }  // namespace steps

@@ -23,7 +23,7 @@ namespace {
 struct Scene {
   Intrinsics K{1066.778, 1067.487, 312.9869, 241.3109, 640, 480};
   Mesh mesh = testing::Blob();
-  std::vector<score::BoxDepth> boxes;
+  std::vector<score::BoxObservation> boxes;
   filter::ParticleSet particles;
 };
 
@@ -36,8 +36,8 @@ Scene MakeScene(int n, InlierMode mode, uint64_t seed) {
   depth.width = 640, depth.height = 480;
   depth.depth_m.resize(640 * 480);
   for (float& z : depth.depth_m) z = rng.Uniform() < 0.1 ? 0.f : static_cast<float>(rng.Uniform(0.55, 0.65));
-  s.boxes.push_back(score::DistributeDepth(depth, s.K, render::PixelRect{250, 180, 380, 300}, 0.9, mode, 1));
-  s.boxes.push_back(score::DistributeDepth(depth, s.K, render::PixelRect{240, 170, 400, 320}, 0.5, mode, 2));
+  s.boxes.push_back(score::DistributeBox(depth, s.K, render::PixelRect{250, 180, 380, 300}, 0.9, mode, 1));
+  s.boxes.push_back(score::DistributeBox(depth, s.K, render::PixelRect{240, 170, 400, 320}, 0.5, mode, 2));
   s.particles.Resize(static_cast<size_t>(n));
   for (int i = 0; i < n; ++i) {
     s.particles.R_cam_obj[i] = filter::UniformRotation(rng.Uniform(), rng.Uniform(), rng.Uniform());

@@ -15,16 +15,16 @@ class FixedPoint final : public Backend {
   score::InlierCounts ScoreSample(const BoxTarget& box, const Eigen::Matrix3f& R, const Eigen::Vector3f& t,
                                   const SampleSettings& settings, Scratch* s,
                                   render::RasterStats* stats) const override {
-    const score::BoxDepth& depth = *box.depth;
-    const render::RasterParams params = score::BoxRasterParams(depth, settings.cull_backfaces);
+    const score::BoxObservation& obs = *box.observed;
+    const render::RasterParams params = score::BoxRasterParams(obs, settings.cull_backfaces);
     const std::span<render::ScreenVertex> vertices = steps::Prepare(box, s);
     // Project, find the pixels the mesh can cover, and snap the vertices for a batched setup.
     render::ProjectVertices(box.mesh->vertices_m, R, t, params, vertices);
     const render::PixelRect rel =
-        steps::RelativeCover(depth, render::CoverBound(vertices, depth.rect), settings.inlier_mode);
+        steps::RelativeCover(obs, render::CoverBound(vertices, obs.rect), settings.inlier_mode);
     render::SnappedVertices* snapped = settings.batched_setup ? &s->snapped : nullptr;
     if (snapped) render::SnapVertices(vertices, params, snapped);
-    steps::ClearScalar(s->zbuf.data(), depth.rect.width(), rel);
+    steps::ClearScalar(s->zbuf.data(), obs.rect.width(), rel);
     // Rasterize every triangle, or those of the clusters that survive culling.
     if (!box.clusters) {
       render::RasterizeDepthFixedPoint(vertices, box.mesh->triangles, params, s->zbuf.data(), stats,
@@ -41,7 +41,7 @@ class FixedPoint final : public Backend {
                                          snapped);
     }
     // Count.
-    return steps::Count(depth, s->zbuf.data(), rel, settings, /*simd=*/false);
+    return steps::Count(obs, s->zbuf.data(), rel, settings, /*simd=*/false);
   }
 };
 

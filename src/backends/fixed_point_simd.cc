@@ -15,8 +15,8 @@ class FixedPointSimd final : public Backend {
   score::InlierCounts ScoreSample(const BoxTarget& box, const Eigen::Matrix3f& R, const Eigen::Vector3f& t,
                                   const SampleSettings& settings, Scratch* s,
                                   render::RasterStats* stats) const override {
-    const score::BoxDepth& depth = *box.depth;
-    const render::RasterParams params = score::BoxRasterParams(depth, settings.cull_backfaces);
+    const score::BoxObservation& obs = *box.observed;
+    const render::RasterParams params = score::BoxRasterParams(obs, settings.cull_backfaces);
     const std::span<render::ScreenVertex> vertices = steps::Prepare(box, s);
     // Project, find the pixels the mesh can cover, and (batched setup) snap, in one pass.
     render::SnappedVertices* snapped = settings.batched_setup ? &s->snapped : nullptr;
@@ -25,10 +25,10 @@ class FixedPointSimd final : public Backend {
       cover = render::ProjectSnapBoundSimd(box.mesh->vertices_m, R, t, params, vertices, snapped);
     } else {
       render::ProjectVerticesSimd(box.mesh->vertices_m, R, t, params, vertices);
-      cover = render::CoverBoundSimd(vertices, depth.rect);
+      cover = render::CoverBoundSimd(vertices, obs.rect);
     }
-    const render::PixelRect rel = steps::RelativeCover(depth, cover, settings.inlier_mode);
-    render::ClearDepthRectSimd(s->zbuf.data(), depth.rect.width(), rel);
+    const render::PixelRect rel = steps::RelativeCover(obs, cover, settings.inlier_mode);
+    render::ClearDepthRectSimd(s->zbuf.data(), obs.rect.width(), rel);
     // Rasterize every triangle, or those of the clusters that survive culling (a vector of
     // clusters decided at a time).
     if (!box.clusters) {
@@ -44,7 +44,7 @@ class FixedPointSimd final : public Backend {
                                          snapped);
     }
     // Count.
-    return steps::Count(depth, s->zbuf.data(), rel, settings, /*simd=*/true);
+    return steps::Count(obs, s->zbuf.data(), rel, settings, /*simd=*/true);
   }
 };
 

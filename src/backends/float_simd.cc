@@ -15,18 +15,18 @@ class FloatSimd final : public Backend {
   score::InlierCounts ScoreSample(const BoxTarget& box, const Eigen::Matrix3f& R, const Eigen::Vector3f& t,
                                   const SampleSettings& settings, Scratch* s,
                                   render::RasterStats* stats) const override {
-    const score::BoxDepth& depth = *box.depth;
-    const render::RasterParams params = score::BoxRasterParams(depth, settings.cull_backfaces);
+    const score::BoxObservation& obs = *box.observed;
+    const render::RasterParams params = score::BoxRasterParams(obs, settings.cull_backfaces);
     const std::span<render::ScreenVertex> vertices = steps::Prepare(box, s);
     // Project, and find the pixels the mesh can cover.
     render::ProjectVerticesSimd(box.mesh->vertices_m, R, t, params, vertices);
     const render::PixelRect rel =
-        steps::RelativeCover(depth, render::CoverBoundSimd(vertices, depth.rect), settings.inlier_mode);
+        steps::RelativeCover(obs, render::CoverBoundSimd(vertices, obs.rect), settings.inlier_mode);
     // Rasterize into a z-buffer cleared only there.
-    render::ClearDepthRectSimd(s->zbuf.data(), depth.rect.width(), rel);
+    render::ClearDepthRectSimd(s->zbuf.data(), obs.rect.width(), rel);
     render::RasterizeDepthFloatSimd(vertices, box.mesh->triangles, params, s->zbuf.data(), stats);
     // Count.
-    return steps::Count(depth, s->zbuf.data(), rel, settings, /*simd=*/true);
+    return steps::Count(obs, s->zbuf.data(), rel, settings, /*simd=*/true);
   }
 };
 

@@ -166,7 +166,7 @@ StatusOr<std::vector<BenchObject>> RunBench(const Dataset& ds, const BenchOption
     r.cdf_reads_per_draw = c.cdf_draws ? static_cast<double>(c.cdf_reads) / c.cdf_draws : 0;
     r.cdf_reads_per_draw_naive = c.cdf_draws ? static_cast<double>(naive_reads) / c.cdf_draws : 0;
     r.depth_bytes_read = e.depth_pixels_read * int64_t{sizeof(float)};
-    r.depth_bytes_read_naive = scorer->box_depth(0).rect.area() * int64_t{sizeof(float)} * eo.samples * iterations;
+    r.depth_bytes_read_naive = scorer->box_observation(0).rect.area() * int64_t{sizeof(float)} * eo.samples * iterations;
 
     // ---- Render + inlier on the initial hypotheses: mcpose and the baselines -------------
     filter::ParticleSet particles;
@@ -175,7 +175,7 @@ StatusOr<std::vector<BenchObject>> RunBench(const Dataset& ds, const BenchOption
     const Mesh& render_mesh = scorer->box_mesh(0);
     r.lod_deviation_mm = level ? 1000.0 * level->error_m : 0.0;
     r.lod_meshopt_error_mm = level ? 1000.0 * level->meshopt_error_m : 0.0;
-    const score::BoxDepth& box = scorer->box_depth(0);
+    const score::BoxObservation& box = scorer->box_observation(0);
     std::vector<score::InlierCounts> counts(particles.size());
     const float eps_m = static_cast<float>(eo.weight.eps_m);
 

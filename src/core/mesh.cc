@@ -46,6 +46,13 @@ Status Mesh::Validate(const std::string& source) const {
     return InvalidArgument(source + ": mesh is degenerate (all " +
                            std::to_string(triangles.size()) + " triangles have zero area)");
   }
+  const MeshAppearance& a = appearance;
+  if (a.has_vertex_colours() && a.vertex_colours.size() != n)
+    return InvalidArgument(source + ": " + std::to_string(a.vertex_colours.size()) + " vertex colours for " +
+                           std::to_string(n) + " vertices");
+  if (!a.triangle_uv.empty() && a.triangle_uv.size() != triangles.size())
+    return InvalidArgument(source + ": texture coordinates for " + std::to_string(a.triangle_uv.size()) +
+                           " of " + std::to_string(triangles.size()) + " triangles");
   const Eigen::Vector3f extent = BoundsMax() - BoundsMin();
   if (!(extent.maxCoeff() > 0.f)) {
     return InvalidArgument(source + ": mesh is degenerate (all vertices coincide)");

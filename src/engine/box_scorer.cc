@@ -68,15 +68,15 @@ StatusOr<std::unique_ptr<BoxScorer>> BoxScorer::Create(Context& context, const I
   // ---- Depth distributor: each box's observed depth, cut out once -----------------------
   for (const Detection& d : boxes) {
     const render::PixelRect rect = ClipBox(d.x, d.y, d.w, d.h, K.width, K.height);
-    s.depth_.push_back(score::DistributeDepth(depth, K, rect, d.score, opt.weight.inlier, BoxStride(rect, opt.engine)));
+    s.observed_.push_back(score::DistributeBox(depth, K, rect, d.score, opt.weight.inlier, BoxStride(rect, opt.engine)));
   }
   // ---- Level of detail: per box, the coarsest mesh within the pixel error budget ----------
   s.lod_ = context.Lod(mesh);
   for (size_t b = 0; b < boxes.size(); ++b) {
-    backends::BoxTarget target{&s.depth_[b], &mesh, nullptr};
+    backends::BoxTarget target{&s.observed_[b], &mesh, nullptr};
     const render::LodLevel* level = nullptr;
     if (s.lod_) {
-      level = &s.lod_->level(SelectLodLevel(*s.lod_, K, mesh, boxes[b], s.depth_[b], opt));
+      level = &s.lod_->level(SelectLodLevel(*s.lod_, K, mesh, boxes[b], s.observed_[b], opt));
       target.mesh = &level->mesh;
       if (opt.engine.cluster_culling) target.clusters = &level->clusters;
     }
@@ -91,13 +91,13 @@ StatusOr<std::unique_ptr<BoxScorer>> BoxScorer::Create(Context& context, const I
 }
 
 int64_t BoxScorer::depth_pixels_read() const {
-  render::PixelRect u = depth_[0].image_rect;
-  for (const score::BoxDepth& b : depth_) {
+  render::PixelRect u = observed_[0].image_rect;
+  for (const score::BoxObservation& b : observed_) {
     const auto& r = b.image_rect;
     u.x0 = std::min(u.x0, r.x0), u.y0 = std::min(u.y0, r.y0), u.x1 = std::max(u.x1, r.x1), u.y1 = std::max(u.y1, r.y1);
   }
   std::vector<char> covered(static_cast<size_t>(u.area()), 0);
-  for (const score::BoxDepth& b : depth_) {
+  for (const score::BoxObservation& b : observed_) {
     const auto& r = b.image_rect;
     for (int y = r.y0; y < r.y1; y += b.stride)
       for (int x = r.x0; x < r.x1; x += b.stride) covered[static_cast<size_t>(y - u.y0) * u.width() + (x - u.x0)] = 1;
@@ -128,7 +128,7 @@ void BoxScorer::Weigh(filter::ParticleSet* particles, EngineCounters* counters) 
   counts_.resize(p.size());
   Count(p, counts_, counters);
   const WeightOptions& w = context_->options().weight;
-  for (size_t i = 0; i < p.size(); ++i) p.weight[i] = score::Weight(counts_[i], depth_[p.box[i]].score, w);
+  for (size_t i = 0; i < p.size(); ++i) p.weight[i] = score::Weight(counts_[i], observed_[p.box[i]].score, w);
 }
 
 }  // namespace mcpose::engine

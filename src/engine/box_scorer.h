@@ -20,7 +20,7 @@
 #include "mcpose/mesh.h"
 #include "mcpose/status.h"
 #include "render/lod.h"
-#include "score/box_depth.h"
+#include "score/box_observation.h"
 
 namespace mcpose::engine {
 
@@ -49,7 +49,7 @@ class BoxScorer {
   int obj_id() const { return detections_.front().obj_id; }
   int num_boxes() const { return static_cast<int>(detections_.size()); }
   const Detection& detection(int b) const { return detections_[static_cast<size_t>(b)]; }
-  const score::BoxDepth& box_depth(int b) const { return depth_[static_cast<size_t>(b)]; }
+  const score::BoxObservation& box_observation(int b) const { return observed_[static_cast<size_t>(b)]; }
   // The mesh box b renders (its LOD level, or the full mesh) and that level (null without LOD).
   const Mesh& box_mesh(int b) const { return *targets_[static_cast<size_t>(b)].mesh; }
   const render::LodLevel* box_level(int b) const { return levels_[static_cast<size_t>(b)]; }
@@ -68,7 +68,7 @@ class BoxScorer {
   Intrinsics K_;
   const Mesh* mesh_ = nullptr;
   std::vector<Detection> detections_;
-  std::vector<score::BoxDepth> depth_;
+  std::vector<score::BoxObservation> observed_;
   std::shared_ptr<const render::LodChain> lod_;
   std::vector<const render::LodLevel*> levels_;
   std::vector<backends::BoxTarget> targets_;

@@ -42,11 +42,11 @@ TEST(BoxScorer, PreparesEachBoxAsTheOptionsSay) {
   const BoxScorer& b = **scorer;
   EXPECT_EQ(b.num_boxes(), 2);
   EXPECT_EQ(b.obj_id(), 5);
-  EXPECT_EQ(b.box_depth(0).stride, 2);
-  EXPECT_EQ(b.box_depth(1).stride, 5);  // 151 x 120 pixels: 31 x 24 grid pixels at stride 5
-  EXPECT_EQ(b.box_depth(1).image_rect.x0, 90);  // rounded outwards
-  EXPECT_EQ(b.box_depth(1).image_rect.x1, 241);
-  EXPECT_EQ(b.box_depth(0).score, 0.9);
+  EXPECT_EQ(b.box_observation(0).stride, 2);
+  EXPECT_EQ(b.box_observation(1).stride, 5);  // 151 x 120 pixels: 31 x 24 grid pixels at stride 5
+  EXPECT_EQ(b.box_observation(1).image_rect.x0, 90);  // rounded outwards
+  EXPECT_EQ(b.box_observation(1).image_rect.x1, 241);
+  EXPECT_EQ(b.box_observation(0).score, 0.9);
   // Both boxes render a LOD level of the blob, with its clusters.
   ASSERT_NE(b.box_level(0), nullptr);
   EXPECT_EQ(&b.box_mesh(0), &b.box_level(0)->mesh);

@@ -29,7 +29,7 @@ double DepthQuantile(const std::vector<float>& observed, double q) {
 
 }  // namespace
 
-double InitialDepth(const Intrinsics& K, const Mesh& mesh, const Detection& d, const score::BoxDepth& box,
+double InitialDepth(const Intrinsics& K, const Mesh& mesh, const Detection& d, const score::BoxObservation& box,
                     double depth_quantile) {
   const Eigen::Vector3f size = mesh.BoundsMax() - mesh.BoundsMin();
   std::array<float, 3> sides = {size.x(), size.y(), size.z()};
@@ -40,7 +40,7 @@ double InitialDepth(const Intrinsics& K, const Mesh& mesh, const Detection& d, c
 }
 
 int SelectLodLevel(const render::LodChain& lod, const Intrinsics& K, const Mesh& mesh, const Detection& d,
-                   const score::BoxDepth& box, const EstimatorOptions& options) {
+                   const score::BoxObservation& box, const EstimatorOptions& options) {
   if (!(options.engine.lod_error_px > 0)) return 0;
   const double z = InitialDepth(K, mesh, d, box, options.init.depth_quantile);
   return lod.Select(render::LodErrorBudgetM(static_cast<float>(options.engine.lod_error_px), static_cast<float>(z),
@@ -60,7 +60,7 @@ void InitializeSamples(const BoxScorer& scorer, const EstimatorOptions& options,
   int i = 0;
   for (int b = 0; b < scorer.num_boxes(); ++b) {
     const Detection& d = scorer.detection(b);
-    const double z = InitialDepth(K, scorer.mesh(), d, scorer.box_depth(b), options.init.depth_quantile);
+    const double z = InitialDepth(K, scorer.mesh(), d, scorer.box_observation(b), options.init.depth_quantile);
     const double uc = d.x + 0.5 * d.w, vc = d.y + 0.5 * d.h;
     const Eigen::Vector3d ray((uc - K.cx) / K.fx, (vc - K.cy) / K.fy, 1.0);
     for (int k = 0; k < per_box[static_cast<size_t>(b)]; ++k, ++i) {

@@ -13,7 +13,7 @@
 #include "mcpose/mesh.h"
 #include "mcpose/options.h"
 #include "render/lod.h"
-#include "score/box_depth.h"
+#include "score/box_observation.h"
 
 namespace mcpose::engine {
 
@@ -22,7 +22,7 @@ class BoxScorer;
 // The initial depth of the samples of box `d`: the `depth_quantile` of its valid observed
 // depths plus half the object's median side, or, without valid depth, the distance at which
 // the object's diameter would fill the box diagonal.
-double InitialDepth(const Intrinsics& K, const Mesh& mesh, const Detection& d, const score::BoxDepth& box,
+double InitialDepth(const Intrinsics& K, const Mesh& mesh, const Detection& d, const score::BoxObservation& box,
                     double depth_quantile);
 
 // The LOD level box `d` renders: the coarsest level of `lod` whose measured deviation from the
@@ -30,7 +30,7 @@ double InitialDepth(const Intrinsics& K, const Mesh& mesh, const Detection& d, c
 // Image pixels, whatever the box's pixel stride: a coarser scoring grid does not make a coarser
 // mesh safe (docs/engine-notes.md).
 int SelectLodLevel(const render::LodChain& lod, const Intrinsics& K, const Mesh& mesh, const Detection& d,
-                   const score::BoxDepth& box, const EstimatorOptions& options);
+                   const score::BoxObservation& box, const EstimatorOptions& options);
 
 void InitializeSamples(const BoxScorer& scorer, const EstimatorOptions& options, uint64_t stream_id,
                        filter::ParticleSet* particles);

@@ -40,7 +40,7 @@ struct Workload {
   Frame frame;
   Mesh mesh;
   Detection det;
-  std::vector<score::BoxDepth> boxes;
+  std::vector<score::BoxObservation> boxes;
   filter::ParticleSet particles;
   std::unique_ptr<render::LodChain> lod;
   const render::LodLevel* lod_level = nullptr;  // the level a 1-pixel budget picks for this box
@@ -62,7 +62,7 @@ const Workload& GetWorkload(FrameKey key, int obj_id, int samples, int stride = 
     w->det = Detection{key.scene_id, key.image_id, obj_id, 1.0};
     MaskBox(mask, &w->det);
   }
-  w->boxes.push_back(score::DistributeDepth(
+  w->boxes.push_back(score::DistributeBox(
       w->frame.depth, w->frame.K,
       engine::ClipBox(w->det.x, w->det.y, w->det.w, w->det.h, w->frame.K.width, w->frame.K.height), 1.0,
       InlierMode::k1D, stride));

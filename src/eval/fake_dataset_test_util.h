@@ -96,6 +96,15 @@ class FakeDataset : public Dataset {
   }
   std::string ObjectName(int obj_id) const override { return "fake_" + std::to_string(obj_id); }
   StatusOr<Mesh> LoadMesh(int /*obj_id*/) const override { return NotFound("fake: no meshes"); }
+  std::string ModelPath(int obj_id) const override { return "fake/" + std::to_string(obj_id); }
+  const std::string& models_dir() const override { return root_; }
+  StatusOr<ColourImage> LoadColour(const Frame&) const override { return NotFound("fake: no colour"); }
+  std::string FrameName(const FrameKey& key) const override {
+    return std::to_string(key.scene_id) + "/" + std::to_string(key.image_id);
+  }
+  StatusOr<FrameKey> ParseFrameName(const std::string& name) const override {
+    return NotFound("fake: no frame " + name);
+  }
 
   StatusOr<std::vector<Eigen::Vector3f>> LoadEvalPoints(int obj_id) const override {
     ++eval_point_loads;

@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "io/io_util.h"
+#include "io/jpeg_io.h"
 #include "io/json_util.h"
 #include "io/ply_io.h"
 #include "io/png_io.h"
@@ -147,11 +148,12 @@ StatusOr<DatasetCamera> ParseDatasetCamera(const std::string& path) {
 
 class BopDataset final : public Dataset {
  public:
-  BopDataset(std::string root, std::string split, std::vector<int> object_ids,
+  BopDataset(std::string root, std::string split, std::string models_dir, std::vector<int> object_ids,
              DatasetCamera camera, std::map<int, std::string> scene_dirs,
              std::map<FrameKey, std::vector<GtInstance>> frames)
       : root_(std::move(root)),
         split_dir_(root_ + "/" + split),
+        models_dir_(std::move(models_dir)),
         object_ids_(std::move(object_ids)),
         camera_(camera),
         scene_dirs_(std::move(scene_dirs)),
@@ -225,6 +227,35 @@ class BopDataset final : public Dataset {
     return frame;
   }
 
+  StatusOr<ColourImage> LoadColour(const Frame& frame) const override {
+    if (frames_.find(frame.key) == frames_.end()) return MissingFrame(frame.key);
+    // rgb/NNNNNN.png, or .jpg as some BOP datasets store them.
+    const std::string stem = SceneDir(frame.key.scene_id) + "/rgb/" + Id6(frame.key.image_id);
+    std::error_code ec;
+    const std::string path = std::filesystem::exists(stem + ".png", ec) || !std::filesystem::exists(stem + ".jpg", ec)
+                                 ? stem + ".png"
+                                 : stem + ".jpg";
+    MCPOSE_ASSIGN_OR_RETURN(ColourImage colour, ReadColourImage(path));
+    if (colour.width != frame.depth.width || colour.height != frame.depth.height)
+      return InvalidArgument(path + ": colour image is " + std::to_string(colour.width) + "x" +
+                             std::to_string(colour.height) + " but the depth image " + frame.depth_path + " is " +
+                             std::to_string(frame.depth.width) + "x" + std::to_string(frame.depth.height));
+    return colour;
+  }
+
+  std::string FrameName(const FrameKey& key) const override { return Id6(key.scene_id) + "/" + Id6(key.image_id); }
+
+  StatusOr<FrameKey> ParseFrameName(const std::string& name) const override {
+    const size_t slash = name.find('/');
+    int scene = 0, image = 0;
+    if (slash == std::string::npos || !ParseInt(name.substr(0, slash), &scene) ||
+        !ParseInt(name.substr(slash + 1), &image))
+      return InvalidArgument("'" + name + "' is not a frame name (SCENE/IMAGE)");
+    const FrameKey key{scene, image};
+    if (!frames_.count(key)) return NotFound("'" + name + "': no such frame in " + split_dir_);
+    return key;
+  }
+
   StatusOr<MaskImage> LoadVisibleMask(const FrameKey& key, const GtInstance& gt) const override {
     if (frames_.find(key) == frames_.end()) return MissingFrame(key);
     return ReadMaskPng(SceneDir(key.scene_id) + "/mask_visib/" +
@@ -241,21 +272,28 @@ class BopDataset final : public Dataset {
   }
 
   StatusOr<Mesh> LoadMesh(int obj_id) const override {
-    if (!std::binary_search(object_ids_.begin(), object_ids_.end(), obj_id)) {
-      return NotFound(root_ + "/models/models_info.json: no model with obj_id " +
-                      std::to_string(obj_id));
-    }
-    return ReadPlyMesh(root_ + "/models/" + "obj_" + Id6(obj_id) + ".ply", kMmPerMetre);
+    MCPOSE_RETURN_IF_ERROR(CheckObject(obj_id));
+    return ReadPlyMesh(ModelPath(obj_id), kMmPerMetre);
   }
 
+  std::string ModelPath(int obj_id) const override { return models_dir_ + "/obj_" + Id6(obj_id) + ".ply"; }
+  const std::string& models_dir() const override { return models_dir_; }
+
   StatusOr<std::vector<Eigen::Vector3f>> LoadEvalPoints(int obj_id) const override {
-    MCPOSE_ASSIGN_OR_RETURN(Mesh mesh, LoadMesh(obj_id));
+    MCPOSE_RETURN_IF_ERROR(CheckObject(obj_id));
+    MCPOSE_ASSIGN_OR_RETURN(Mesh mesh, ReadPlyMesh(root_ + "/models/obj_" + Id6(obj_id) + ".ply", kMmPerMetre));
     return std::move(mesh.vertices_m);
   }
 
  private:
   // Every scene of `frames_` has an entry (filled together in OpenBop).
   const std::string& SceneDir(int scene_id) const { return scene_dirs_.at(scene_id); }
+
+  Status CheckObject(int obj_id) const {
+    if (!std::binary_search(object_ids_.begin(), object_ids_.end(), obj_id))
+      return NotFound(root_ + "/models/models_info.json: no model with obj_id " + std::to_string(obj_id));
+    return Status::Ok();
+  }
 
   Status MissingFrame(const FrameKey& key) const {
     return NotFound(split_dir_ + ": no ground truth for scene " + std::to_string(key.scene_id) +
@@ -278,6 +316,7 @@ class BopDataset final : public Dataset {
 
   std::string root_;
   std::string split_dir_;
+  std::string models_dir_;
   std::vector<int> object_ids_;  // sorted
   bool ycbv_ids_ = false;
   DatasetCamera camera_;
@@ -287,7 +326,8 @@ class BopDataset final : public Dataset {
   mutable std::map<int, std::shared_ptr<const SceneCameras>> cameras_;
 };
 
-StatusOr<std::unique_ptr<Dataset>> OpenBop(const std::string& root, const std::string& split) {
+StatusOr<std::unique_ptr<Dataset>> OpenBop(const std::string& root, const std::string& split,
+                                           const std::string& models_dir) {
   // Objects: the keys of models_info.json.
   const std::string info_path = root + "/models/models_info.json";
   MCPOSE_ASSIGN_OR_RETURN(json info, ReadJsonFile(info_path));
@@ -332,15 +372,16 @@ StatusOr<std::unique_ptr<Dataset>> OpenBop(const std::string& root, const std::s
   if (scenes.empty()) {
     return NotFound(split_dir + ": no scene folder with a scene_gt.json");
   }
-  return std::unique_ptr<Dataset>(new BopDataset(root, split, std::move(object_ids), camera,
+  return std::unique_ptr<Dataset>(new BopDataset(root, split, models_dir, std::move(object_ids), camera,
                                                  std::move(scenes), std::move(frames)));
 }
 
 }  // namespace
 
-StatusOr<std::unique_ptr<Dataset>> OpenBopDataset(const std::string& root, const std::string& split) {
+StatusOr<std::unique_ptr<Dataset>> OpenBopDataset(const std::string& root, const std::string& split,
+                                                  const std::string& models_dir) {
   try {
-    return OpenBop(root, split);
+    return OpenBop(root, split, models_dir);
   } catch (const std::exception& e) {
     return Internal(root + ": cannot open BOP dataset (" + e.what() + ")");
   }

@@ -15,6 +15,8 @@ namespace mcpose::io {
 // Opens a BOP dataset: reads models_info.json, the optional root camera.json (image size,
 // default depth_scale) and every <split>/<6-digit scene>/scene_gt.json (the frames). Scene
 // folders without scene_gt.json are skipped. scene_camera.json is read when a frame is loaded.
-StatusOr<std::unique_ptr<Dataset>> OpenBopDataset(const std::string& root, const std::string& split);
+// Meshes are read from `models_dir`/obj_NNNNNN.ply.
+StatusOr<std::unique_ptr<Dataset>> OpenBopDataset(const std::string& root, const std::string& split,
+                                                  const std::string& models_dir);
 
 }  // namespace mcpose::io

@@ -4,22 +4,43 @@
 
 #include <cmath>
 #include <exception>
+#include <filesystem>
+#include <mutex>
+#include <set>
 #include <sstream>
 
+#include <spdlog/spdlog.h>
+
 #include "io/io_util.h"
+#include "io/jpeg_io.h"
 
 namespace mcpose::io {
 namespace {
 
-// Materials are never used: answer every mtllib request with "no materials" instead of opening
-// files (YCB-Video ships its OBJ files without the .mtl they name).
-class NoMaterials : public tinyobj::MaterialReader {
+// Reads the .mtl files an OBJ names from its folder; a missing one gives no materials, not an
+// error (YCB-Video ships most of its OBJ files without the .mtl they name).
+class MaterialsBesideObj : public tinyobj::MaterialReader {
  public:
-  bool operator()(const std::string&, std::vector<tinyobj::material_t>*,
-                  std::map<std::string, int>*, std::string*, std::string*) override {
-    return true;
+  explicit MaterialsBesideObj(std::string dir) : dir_(std::move(dir)) {}
+  bool operator()(const std::string& name, std::vector<tinyobj::material_t>* materials,
+                  std::map<std::string, int>* ids, std::string* warn, std::string* err) override {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(dir_ + "/" + name, ec)) return true;
+    tinyobj::MaterialFileReader reader(dir_ + "/");
+    return reader(name, materials, ids, warn, err);
   }
+
+ private:
+  std::string dir_;
 };
+
+// One warning per file and problem, however often the model is read.
+void WarnOnce(const std::string& message) {
+  static std::mutex mutex;
+  static std::set<std::string> said;
+  std::lock_guard<std::mutex> lock(mutex);
+  if (said.insert(message).second) spdlog::warn("{}", message);
+}
 
 StatusOr<Mesh> ParseObj(const std::string& path, const std::string& text,
                         double file_units_per_metre) {
@@ -29,9 +50,10 @@ StatusOr<Mesh> ParseObj(const std::string& path, const std::string& text,
   std::vector<tinyobj::material_t> materials;
   std::string warnings, errors;
   std::istringstream stream(text);
-  NoMaterials no_materials;
+  const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+  MaterialsBesideObj material_reader(dir.empty() ? "." : dir.string());
   const bool ok = tinyobj::LoadObj(&attrib, &shapes, &materials, &warnings, &errors, &stream,
-                                   &no_materials, /*triangulate=*/false,
+                                   &material_reader, /*triangulate=*/false,
                                    /*default_vcols_fallback=*/false);
   if (!ok) {
     return DataLoss(path + ": cannot parse OBJ file (tinyobjloader: " +
@@ -57,6 +79,22 @@ StatusOr<Mesh> ParseObj(const std::string& path, const std::string& text,
     }
   }
 
+  // The texture: the first material's diffuse map. Faces of other materials get no colour.
+  int textured_material = -1;
+  for (size_t m = 0; m < materials.size() && textured_material < 0; ++m)
+    if (!materials[m].diffuse_texname.empty()) textured_material = static_cast<int>(m);
+  std::shared_ptr<const ColourImage> texture;
+  if (textured_material >= 0) {
+    const std::string texture_path = (dir / materials[textured_material].diffuse_texname).string();
+    StatusOr<ColourImage> image = ReadColourImage(texture_path);
+    if (image.ok()) {
+      texture = std::make_shared<const ColourImage>(ReduceTexture(std::move(image).value(), kMaxTextureSide));
+    } else {
+      WarnOnce(path + ": no colour: its material's texture cannot be read (" + image.status().message() + ")");
+    }
+  }
+  const size_t num_texcoords = attrib.texcoords.size() / 2;
+
   // Triangles of all shapes, in file order, by position index.
   size_t face_number = 0;
   for (const tinyobj::shape_t& shape : shapes) {
@@ -70,7 +108,13 @@ StatusOr<Mesh> ParseObj(const std::string& path, const std::string& text,
                                " vertices; only triangle meshes are supported");
       }
       std::array<uint32_t, 3> triangle;
+      std::array<Eigen::Vector2f, 3> uv;
+      const bool textured = texture && m.material_ids[f] == textured_material;
       for (size_t k = 0; k < 3; ++k) {
+        const int t = m.indices[offset + k].texcoord_index;
+        uv[k] = textured && t >= 0 && static_cast<size_t>(t) < num_texcoords
+                    ? Eigen::Vector2f(attrib.texcoords[2 * t], attrib.texcoords[2 * t + 1])
+                    : Eigen::Vector2f::Constant(NAN);
         const int index = m.indices[offset + k].vertex_index;
         if (index < 0 || static_cast<size_t>(index) >= num_vertices) {
           return InvalidArgument(path + ": face " + std::to_string(face_number) +
@@ -80,14 +124,47 @@ StatusOr<Mesh> ParseObj(const std::string& path, const std::string& text,
         triangle[k] = static_cast<uint32_t>(index);
       }
       mesh.triangles.push_back(triangle);
+      if (texture) mesh.appearance.triangle_uv.push_back(uv);
       offset += corners;
     }
+  }
+  if (texture) {
+    mesh.appearance.texture = std::move(texture);
+    mesh.appearance.source = path;
   }
   MCPOSE_RETURN_IF_ERROR(mesh.Validate(path));
   return mesh;
 }
 
 }  // namespace
+
+ColourImage ReduceTexture(ColourImage image, int max_side) {
+  while (image.width > max_side || image.height > max_side) {
+    const int w = std::max(1, image.width / 2), h = std::max(1, image.height / 2);
+    ColourImage half;
+    half.width = w, half.height = h;
+    half.rgba.resize(4 * static_cast<size_t>(w) * h);
+    for (int y = 0; y < h; ++y) {
+      for (int x = 0; x < w; ++x) {
+        // The 2 x 2 block (one pixel wide where a side was odd and 1), colour weighted by alpha.
+        int sum[4] = {0, 0, 0, 0}, count = 0;
+        for (int dy = 0; dy < 2; ++dy)
+          for (int dx = 0; dx < 2; ++dx) {
+            const int sx = std::min(2 * x + dx, image.width - 1), sy = std::min(2 * y + dy, image.height - 1);
+            const uint8_t* p = image.at(sx, sy);
+            for (int c = 0; c < 3; ++c) sum[c] += p[c] * p[3];
+            sum[3] += p[3];
+            ++count;
+          }
+        uint8_t* q = half.rgba.data() + 4 * (static_cast<size_t>(y) * w + x);
+        for (int c = 0; c < 3; ++c) q[c] = static_cast<uint8_t>(sum[3] > 0 ? (sum[c] + sum[3] / 2) / sum[3] : 0);
+        q[3] = static_cast<uint8_t>((sum[3] + count / 2) / count);
+      }
+    }
+    image = std::move(half);
+  }
+  return image;
+}
 
 StatusOr<Mesh> ReadObjMesh(const std::string& path, double file_units_per_metre) {
   if (!std::isfinite(file_units_per_metre) || file_units_per_metre <= 0) {

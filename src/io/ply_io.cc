@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -254,6 +255,16 @@ StatusOr<Mesh> ParsePly(const std::string& path, const std::string& bytes,
                              std::string(1, "xyz"[i]) + "'");
     }
   }
+  // Vertex colours: red, green, blue and optionally alpha; integer types hold 0-255, float
+  // types 0-1 (alpha 0 marks a colour never seen).
+  int rgba[4] = {FindProperty(*vertex_element, "red"), FindProperty(*vertex_element, "green"),
+                 FindProperty(*vertex_element, "blue"), FindProperty(*vertex_element, "alpha")};
+  const bool has_colour = rgba[0] >= 0 && rgba[1] >= 0 && rgba[2] >= 0;
+  for (int c = 0; c < 4 && has_colour; ++c) {
+    if (rgba[c] >= 0 && vertex_element->properties[rgba[c]].is_list)
+      return InvalidArgument(path + ": PLY vertex colour property '" + vertex_element->properties[rgba[c]].name +
+                             "' is a list");
+  }
   int indices_property = -1;
   if (face_element) {
     indices_property = FindProperty(*face_element, "vertex_indices");
@@ -277,6 +288,7 @@ StatusOr<Mesh> ParsePly(const std::string& path, const std::string& bytes,
     for (size_t n = 0; n < element.count; ++n) {
       MCPOSE_RETURN_IF_ERROR(reader.BeginRecord(element.name, n));
       double position[3] = {0, 0, 0};
+      double colour[4] = {0, 0, 0, -1};
       std::array<uint32_t, 3> triangle = {0, 0, 0};
       for (size_t p = 0; p < element.properties.size(); ++p) {
         const PlyProperty& property = element.properties[p];
@@ -286,6 +298,15 @@ StatusOr<Mesh> ParsePly(const std::string& path, const std::string& bytes,
           if (is_vertex) {
             for (int i = 0; i < 3; ++i) {
               if (static_cast<int>(p) == xyz[i]) position[i] = value;
+            }
+            for (int c = 0; c < 4 && has_colour; ++c) {
+              if (static_cast<int>(p) != rgba[c]) continue;
+              const double scale = IsIntegerType(property.type) ? 1.0 : 255.0;
+              const double v = value * scale;
+              if (!(v >= 0 && v <= 255.5))
+                return InvalidArgument(reader.Where() + "colour '" + property.name + "' " + std::to_string(value) +
+                                       " is outside " + (scale == 1.0 ? "0-255" : "0-1"));
+              colour[c] = v;
             }
           }
           continue;
@@ -318,10 +339,16 @@ StatusOr<Mesh> ParsePly(const std::string& path, const std::string& bytes,
         mesh.vertices_m.emplace_back(static_cast<float>(position[0] / file_units_per_metre),
                                      static_cast<float>(position[1] / file_units_per_metre),
                                      static_cast<float>(position[2] / file_units_per_metre));
+        if (has_colour) {
+          auto byte = [](double v) { return static_cast<uint8_t>(std::lround(std::min(v, 255.0))); };
+          mesh.appearance.vertex_colours.push_back(
+              {byte(colour[0]), byte(colour[1]), byte(colour[2]), colour[3] < 0 ? uint8_t{255} : byte(colour[3])});
+        }
       }
       if (is_face) mesh.triangles.push_back(triangle);
     }
   }
+  if (has_colour) mesh.appearance.source = path;
   MCPOSE_RETURN_IF_ERROR(mesh.Validate(path));
   return mesh;
 }
@@ -338,6 +365,34 @@ StatusOr<Mesh> ReadPlyMesh(const std::string& path, double file_units_per_metre)
   } catch (const std::exception& e) {
     return Internal(path + ": PLY read failed (" + e.what() + ")");
   }
+}
+
+Status WritePlyMesh(const std::string& path, const Mesh& mesh, double file_units_per_metre) {
+  static_assert(std::endian::native == std::endian::little, "the writer stores the host's bytes");
+  MCPOSE_RETURN_IF_ERROR(mesh.Validate(path));
+  const bool colour = mesh.appearance.has_vertex_colours();
+  std::string out = "ply\nformat binary_little_endian 1.0\ncomment written by mcpose\nelement vertex " +
+                    std::to_string(mesh.vertices_m.size()) + "\nproperty float x\nproperty float y\nproperty float z\n";
+  if (colour) out += "property uchar red\nproperty uchar green\nproperty uchar blue\nproperty uchar alpha\n";
+  out += "element face " + std::to_string(mesh.triangles.size()) +
+         "\nproperty list uchar int vertex_indices\nend_header\n";
+  auto put = [&out](const void* p, size_t n) { out.append(static_cast<const char*>(p), n); };
+  for (size_t i = 0; i < mesh.vertices_m.size(); ++i) {
+    for (int k = 0; k < 3; ++k) {
+      const float v = static_cast<float>(mesh.vertices_m[i][k] * file_units_per_metre);
+      put(&v, sizeof v);
+    }
+    if (colour) put(&mesh.appearance.vertex_colours[i], 4);
+  }
+  for (const auto& t : mesh.triangles) {
+    const uint8_t three = 3;
+    put(&three, 1);
+    for (uint32_t v : t) {
+      const int32_t index = static_cast<int32_t>(v);
+      put(&index, sizeof index);
+    }
+  }
+  return WriteFileAtomic(path, out);
 }
 
 }  // namespace mcpose::io

@@ -94,9 +94,10 @@ std::string Describe(const PngReadState& s) {
 }
 
 // What the caller accepts; checked between reading the header and decoding the pixels.
-enum class PngKind { kGray16, kMask };
+enum class PngKind { kGray16, kMask, kColour };
 
 bool Accepts(PngKind kind, const PngReadState& s) {
+  if (kind == PngKind::kColour) return s.bit_depth <= 8;  // any colour type, 8-bit or less
   if (s.color_type != PNG_COLOR_TYPE_GRAY) return false;
   if (kind == PngKind::kGray16) return s.bit_depth == 16;
   return true;  // masks: gray of any bit depth (1, 2, 4, 8, 16)
@@ -126,7 +127,17 @@ int DecodePng(PngReadState* state, PngKind kind) {
     return 2;
   }
   // Sub-byte gray masks become one byte per pixel; 16-bit stays big-endian (decoded below).
-  if (state->bit_depth < 8) png_set_expand_gray_1_2_4_to_8(png);
+  // Colour: everything becomes 8-bit RGBA (palette and gray expanded, opaque alpha added).
+  if (kind == PngKind::kColour) {
+    if (state->color_type == PNG_COLOR_TYPE_PALETTE) png_set_palette_to_rgb(png);
+    if (png_get_valid(png, info, PNG_INFO_tRNS)) png_set_tRNS_to_alpha(png);
+    if (state->color_type == PNG_COLOR_TYPE_GRAY || state->color_type == PNG_COLOR_TYPE_GRAY_ALPHA)
+      png_set_gray_to_rgb(png);
+    if (state->bit_depth < 8) png_set_expand(png);
+    png_set_filler(png, 0xff, PNG_FILLER_AFTER);
+  } else if (state->bit_depth < 8) {
+    png_set_expand_gray_1_2_4_to_8(png);
+  }
   png_set_interlace_handling(png);
   png_read_update_info(png, info);
   state->row_bytes = png_get_rowbytes(png, info);
@@ -168,8 +179,8 @@ Status ReadPng(const std::string& path, PngKind kind, const char* wanted, PngRea
   return Status::Ok();
 }
 
-// Shared PNG writer: 8- or 16-bit grayscale from big-endian row bytes.
-int EncodePng(std::FILE* f, int width, int height, int bit_depth,
+// Shared PNG writer: 8- or 16-bit grayscale from big-endian row bytes, or 8-bit RGB / RGBA.
+int EncodePng(std::FILE* f, int width, int height, int bit_depth, int color_type,
               const std::vector<unsigned char>& bytes, std::string* error) {
   png_structp png =
       png_create_write_struct(PNG_LIBPNG_VER_STRING, error,
@@ -190,10 +201,10 @@ int EncodePng(std::FILE* f, int width, int height, int bit_depth,
   }
   png_init_io(png, f);
   png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height),
-               bit_depth, PNG_COLOR_TYPE_GRAY, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
+               bit_depth, color_type, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
                PNG_FILTER_TYPE_DEFAULT);
   png_write_info(png, info);
-  const size_t row_bytes = static_cast<size_t>(width) * (bit_depth / 8);
+  const size_t row_bytes = static_cast<size_t>(width) * (bit_depth / 8) * Channels(color_type);
   for (int y = 0; y < height; ++y) {
     png_write_row(png, const_cast<png_bytep>(bytes.data() + y * row_bytes));
   }
@@ -202,7 +213,7 @@ int EncodePng(std::FILE* f, int width, int height, int bit_depth,
   return 0;
 }
 
-Status WritePng(const std::string& path, int width, int height, int bit_depth,
+Status WritePng(const std::string& path, int width, int height, int bit_depth, int color_type,
                 const std::vector<unsigned char>& bytes) {
   if (width <= 0 || height <= 0) {
     return InvalidArgument(path + ": cannot write an empty image (" + std::to_string(width) + "x" +
@@ -212,7 +223,7 @@ Status WritePng(const std::string& path, int width, int height, int bit_depth,
   std::FILE* f = std::fopen(tmp.c_str(), "wb");
   if (!f) return NotFound(tmp + ": cannot create file");
   std::string error;
-  const int result = EncodePng(f, width, height, bit_depth, bytes, &error);
+  const int result = EncodePng(f, width, height, bit_depth, color_type, bytes, &error);
   const bool closed = std::fclose(f) == 0;
   std::error_code ec;
   if (result != 0 || !closed) {
@@ -287,7 +298,7 @@ Status WriteGray16Png(const std::string& path, const Gray16Image& image) {
     bytes[2 * i] = static_cast<unsigned char>(image.values[i] >> 8);
     bytes[2 * i + 1] = static_cast<unsigned char>(image.values[i] & 0xff);
   }
-  return WritePng(path, image.width, image.height, 16, bytes);
+  return WritePng(path, image.width, image.height, 16, PNG_COLOR_TYPE_GRAY, bytes);
 }
 
 Status WriteMaskPng(const std::string& path, const MaskImage& mask) {
@@ -296,8 +307,33 @@ Status WriteMaskPng(const std::string& path, const MaskImage& mask) {
     return InvalidArgument(path + ": mask has " + std::to_string(mask.values.size()) +
                            " values, expected " + std::to_string(n));
   }
-  return WritePng(path, mask.width, mask.height, 8,
+  return WritePng(path, mask.width, mask.height, 8, PNG_COLOR_TYPE_GRAY,
                   std::vector<unsigned char>(mask.values.begin(), mask.values.end()));
+}
+
+StatusOr<ColourImage> ReadColourPng(const std::string& path) {
+  PngReadState state;
+  MCPOSE_RETURN_IF_ERROR(ReadPng(path, PngKind::kColour, "colour PNG must have 8-bit samples", &state));
+  ColourImage image;
+  image.width = static_cast<int>(state.width);
+  image.height = static_cast<int>(state.height);
+  image.rgba.assign(state.pixels.begin(), state.pixels.begin() + 4 * static_cast<size_t>(image.width) * image.height);
+  return image;
+}
+
+Status WriteColourPng(const std::string& path, const ColourImage& image) {
+  const size_t n = static_cast<size_t>(std::max(image.width, 0)) * std::max(image.height, 0);
+  if (image.rgba.size() != 4 * n) {
+    return InvalidArgument(path + ": image has " + std::to_string(image.rgba.size()) + " bytes, expected " +
+                           std::to_string(4 * n));
+  }
+  bool opaque = true;
+  for (size_t i = 0; i < n && opaque; ++i) opaque = image.rgba[4 * i + 3] == 255;
+  if (!opaque) return WritePng(path, image.width, image.height, 8, PNG_COLOR_TYPE_RGB_ALPHA, image.rgba);
+  std::vector<unsigned char> rgb(3 * n);
+  for (size_t i = 0; i < n; ++i)
+    for (int c = 0; c < 3; ++c) rgb[3 * i + c] = image.rgba[4 * i + c];
+  return WritePng(path, image.width, image.height, 8, PNG_COLOR_TYPE_RGB, rgb);
 }
 
 }  // namespace mcpose::io

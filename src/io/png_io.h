@@ -29,8 +29,14 @@ StatusOr<DepthImage> ReadDepthPng(const std::string& path, double metres_per_uni
 // their class indices; 16-bit grayscale is mapped to 255 where nonzero, 0 elsewhere.
 StatusOr<MaskImage> ReadMaskPng(const std::string& path);
 
-// Writers (for tests and tools): 16-bit grayscale and 8-bit grayscale, written atomically.
+// An 8-bit colour image: RGB or RGBA (alpha kept), palette or 8-bit grayscale (expanded to
+// RGB); alpha is 255 where the file has none. 16-bit samples are an error (bit depth named).
+StatusOr<ColourImage> ReadColourPng(const std::string& path);
+
+// Writers, atomic (temporary file and rename): 16-bit grayscale, 8-bit grayscale, and 8-bit
+// RGBA (or RGB when every alpha is 255).
 Status WriteGray16Png(const std::string& path, const Gray16Image& image);
 Status WriteMaskPng(const std::string& path, const MaskImage& mask);
+Status WriteColourPng(const std::string& path, const ColourImage& image);
 
 }  // namespace mcpose::io

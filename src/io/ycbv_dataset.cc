@@ -157,9 +157,10 @@ bool AllDigits(const std::string& s, size_t n) {
 
 class YcbvDataset final : public Dataset {
  public:
-  YcbvDataset(std::string root, std::vector<std::string> class_names,
+  YcbvDataset(std::string root, std::string models_dir, std::vector<std::string> class_names,
               std::map<FrameKey, std::string> frame_prefixes, std::vector<int> object_ids)
       : root_(std::move(root)),
+        models_dir_(std::move(models_dir)),
         class_names_(std::move(class_names)),
         frame_prefixes_(std::move(frame_prefixes)),
         object_ids_(std::move(object_ids)) {}
@@ -170,8 +171,42 @@ class YcbvDataset final : public Dataset {
   std::vector<FrameKey> Frames() const override {
     std::vector<FrameKey> keys;
     keys.reserve(frame_prefixes_.size());
-    for (const auto& [key, prefix] : frame_prefixes_) keys.push_back(key);
+    for (const auto& [key, prefix] : frame_prefixes_)
+      if (key.scene_id != kSyntheticScene) keys.push_back(key);
     return keys;
+  }
+
+  StatusOr<ColourImage> LoadColour(const Frame& frame) const override {
+    MCPOSE_ASSIGN_OR_RETURN(const std::string prefix, Prefix(frame.key));
+    const std::string path = prefix + "-color.png";
+    MCPOSE_ASSIGN_OR_RETURN(ColourImage colour, ReadColourPng(path));
+    if (colour.width != frame.depth.width || colour.height != frame.depth.height)
+      return InvalidArgument(path + ": colour image is " + std::to_string(colour.width) + "x" +
+                             std::to_string(colour.height) + " but the depth image " + frame.depth_path + " is " +
+                             std::to_string(frame.depth.width) + "x" + std::to_string(frame.depth.height));
+    return colour;
+  }
+
+  std::string FrameName(const FrameKey& key) const override {
+    char buffer[48];
+    if (key.scene_id == kSyntheticScene) {
+      std::snprintf(buffer, sizeof buffer, "data_syn/%06d", key.image_id);
+    } else {
+      std::snprintf(buffer, sizeof buffer, "%04d/%06d", key.scene_id, key.image_id);
+    }
+    return buffer;
+  }
+
+  StatusOr<FrameKey> ParseFrameName(const std::string& name) const override {
+    const size_t slash = name.find('/');
+    int scene = 0, image = 0;
+    const std::string head = name.substr(0, slash == std::string::npos ? 0 : slash);
+    const bool ok = slash != std::string::npos && ParseInt(name.substr(slash + 1), &image) &&
+                    (head == "data_syn" ? (scene = kSyntheticScene, true) : ParseInt(head, &scene));
+    if (!ok) return InvalidArgument("'" + name + "' is not a frame name (VIDEO/FRAME or data_syn/FRAME)");
+    const FrameKey key{scene, image};
+    if (!frame_prefixes_.count(key)) return NotFound("'" + name + "': no such frame in " + root_);
+    return key;
   }
 
   StatusOr<Frame> LoadFrame(const FrameKey& key) const override {
@@ -238,13 +273,16 @@ class YcbvDataset final : public Dataset {
   }
 
   StatusOr<Mesh> LoadMesh(int obj_id) const override {
-    MCPOSE_ASSIGN_OR_RETURN(const std::string dir, ModelDir(obj_id));
-    return ReadObjMesh(dir + "/textured_simple.obj");
+    MCPOSE_RETURN_IF_ERROR(CheckObject(obj_id));
+    return ReadObjMesh(ModelPath(obj_id) + "/textured_simple.obj");
   }
 
+  std::string ModelPath(int obj_id) const override { return models_dir_ + "/" + ObjectName(obj_id); }
+  const std::string& models_dir() const override { return models_dir_; }
+
   StatusOr<std::vector<Eigen::Vector3f>> LoadEvalPoints(int obj_id) const override {
-    MCPOSE_ASSIGN_OR_RETURN(const std::string dir, ModelDir(obj_id));
-    return ReadXyzPoints(dir + "/points.xyz");
+    MCPOSE_RETURN_IF_ERROR(CheckObject(obj_id));
+    return ReadXyzPoints(root_ + "/models/" + ObjectName(obj_id) + "/points.xyz");
   }
 
  private:
@@ -257,18 +295,19 @@ class YcbvDataset final : public Dataset {
     return it->second;
   }
 
-  StatusOr<std::string> ModelDir(int obj_id) const {
+  Status CheckObject(int obj_id) const {
     if (!std::binary_search(object_ids_.begin(), object_ids_.end(), obj_id)) {
       return NotFound(root_ + ": no model with obj_id " + std::to_string(obj_id) +
                       " (classes.txt lists " + std::to_string(class_names_.size()) +
                       " classes; models/<name>/textured_simple.obj must exist)");
     }
-    return root_ + "/models/" + class_names_[obj_id - 1];
+    return Status::Ok();
   }
 
   std::string root_;
+  std::string models_dir_;
   std::vector<std::string> class_names_;             // element k - 1: obj_id k
-  std::map<FrameKey, std::string> frame_prefixes_;   // ".../data/0049/000001"
+  std::map<FrameKey, std::string> frame_prefixes_;   // ".../data/0049/000001", ".../data_syn/000001"
   std::vector<int> object_ids_;                      // sorted; classes with a mesh file
 };
 
@@ -288,7 +327,7 @@ StatusOr<std::vector<std::string>> ReadClassNames(const std::string& path) {
   return names;
 }
 
-StatusOr<std::unique_ptr<Dataset>> OpenYcbv(const std::string& root) {
+StatusOr<std::unique_ptr<Dataset>> OpenYcbv(const std::string& root, const std::string& models_dir) {
   MCPOSE_ASSIGN_OR_RETURN(std::vector<std::string> names, ReadClassNames(root + "/classes.txt"));
 
   // Objects: the classes whose mesh is present.
@@ -322,8 +361,16 @@ StatusOr<std::unique_ptr<Dataset>> OpenYcbv(const std::string& root) {
     }
   }
   if (ec) return DataLoss(data_dir + ": cannot list folder (" + ec.message() + ")");
+  // Synthetic frames: data_syn/<6-digit frame>-meta.mat, if the folder exists.
+  const std::string syn_dir = root + "/data_syn";
+  std::error_code syn_ec;
+  for (fs::directory_iterator file(syn_dir, syn_ec), end; !syn_ec && file != end; file.increment(syn_ec)) {
+    const std::string name = file->path().filename().string();
+    if (name.size() != 15 || !name.ends_with("-meta.mat") || !AllDigits(name.substr(0, 6), 6)) continue;
+    frames[FrameKey{kSyntheticScene, std::stoi(name.substr(0, 6))}] = syn_dir + "/" + name.substr(0, 6);
+  }
   return std::unique_ptr<Dataset>(
-      new YcbvDataset(root, std::move(names), std::move(frames), std::move(object_ids)));
+      new YcbvDataset(root, models_dir, std::move(names), std::move(frames), std::move(object_ids)));
 }
 
 }  // namespace
@@ -424,9 +471,9 @@ StatusOr<std::vector<Eigen::Vector3f>> ReadXyzPoints(const std::string& path) {
   return points;
 }
 
-StatusOr<std::unique_ptr<Dataset>> OpenYcbvDataset(const std::string& root) {
+StatusOr<std::unique_ptr<Dataset>> OpenYcbvDataset(const std::string& root, const std::string& models_dir) {
   try {
-    return OpenYcbv(root);
+    return OpenYcbv(root, models_dir);
   } catch (const std::exception& e) {
     return Internal(root + ": cannot open YCB-Video dataset (" + e.what() + ")");
   }

@@ -33,8 +33,9 @@ StatusOr<YcbvMeta> ReadYcbvMeta(const std::string& path);
 Status WriteYcbvMeta(const std::string& path, const YcbvMeta& meta);
 
 // Opens a YCB-Video folder: reads classes.txt and lists data/<4 digits>/<6 digits>-meta.mat
-// (data_syn/ is not a scene and is ignored).
-StatusOr<std::unique_ptr<Dataset>> OpenYcbvDataset(const std::string& root);
+// (the frames) and data_syn/<6 digits>-meta.mat (synthetic frames, scene kSyntheticScene, not
+// among Frames()). Meshes are read from `models_dir`/<name>/textured_simple.obj.
+StatusOr<std::unique_ptr<Dataset>> OpenYcbvDataset(const std::string& root, const std::string& models_dir);
 
 // Points of a points.xyz file ("x y z" per line, metres).
 StatusOr<std::vector<Eigen::Vector3f>> ReadXyzPoints(const std::string& path);

@@ -83,7 +83,7 @@ StatusOr<TurnProfile> ProfileTurns(const Intrinsics& K, const DepthImage& depth,
                           engine::BoxScorer::Create(context, K, depth, mesh, std::span(&box, 1)));
   TurnProfile out;
   out.axis = turn.axis >= 0 ? turn.axis : DistinctAxis(mesh);
-  out.stride = scorer->box_depth(0).stride;
+  out.stride = scorer->box_observation(0).stride;
   out.triangles = static_cast<int>(scorer->box_mesh(0).triangles.size());
 
   const int n = static_cast<int>(std::lround(360.0 / turn.step_deg));

@@ -19,7 +19,7 @@
 
 namespace mcpose::score {
 
-struct BoxDepth {
+struct BoxObservation {
   render::PixelRect rect;        // the raster rect, grid pixels
   render::PixelRect image_rect;  // the box in image pixels
   int stride = 1;
@@ -31,11 +31,11 @@ struct BoxDepth {
   std::unique_ptr<ObservedCloud> cloud;  // only for InlierMode::k3D
 };
 
-// The BoxDepth of `rect` (image pixels, inside the image) at pixel stride `stride` >= 1.
-BoxDepth DistributeDepth(const DepthImage& depth, const Intrinsics& K, const render::PixelRect& rect,
+// The BoxObservation of `rect` (image pixels, inside the image) at pixel stride `stride` >= 1.
+BoxObservation DistributeBox(const DepthImage& depth, const Intrinsics& K, const render::PixelRect& rect,
                          double score, InlierMode mode, int stride = 1);
 
 // The raster-core parameters of a box: its grid projection and rect.
-render::RasterParams BoxRasterParams(const BoxDepth& box, bool cull_backfaces);
+render::RasterParams BoxRasterParams(const BoxObservation& box, bool cull_backfaces);
 
 }  // namespace mcpose::score

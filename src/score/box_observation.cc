@@ -1,13 +1,13 @@
-#include "score/box_depth.h"
+#include "score/box_observation.h"
 
 #include "core/check.h"
 
 namespace mcpose::score {
 
-BoxDepth DistributeDepth(const DepthImage& depth, const Intrinsics& K, const render::PixelRect& rect,
+BoxObservation DistributeBox(const DepthImage& depth, const Intrinsics& K, const render::PixelRect& rect,
                          double score, InlierMode mode, int stride) {
   MCPOSE_CHECK_GE(stride, 1);
-  BoxDepth b;
+  BoxObservation b;
   b.image_rect = rect;
   b.stride = stride;
   const int gw = (rect.width() + stride - 1) / stride, gh = (rect.height() + stride - 1) / stride;
@@ -31,7 +31,7 @@ BoxDepth DistributeDepth(const DepthImage& depth, const Intrinsics& K, const ren
   return b;
 }
 
-render::RasterParams BoxRasterParams(const BoxDepth& box, bool cull_backfaces) {
+render::RasterParams BoxRasterParams(const BoxObservation& box, bool cull_backfaces) {
   render::RasterParams params;
   params.fx = static_cast<float>(box.K_grid.fx);
   params.fy = static_cast<float>(box.K_grid.fy);

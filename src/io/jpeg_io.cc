@@ -1,0 +1,63 @@
+#include "io/jpeg_io.h"
+
+#include <turbojpeg.h>
+
+#include <cstring>
+#include <exception>
+#include <fstream>
+#include <memory>
+
+#include "io/io_util.h"
+#include "io/png_io.h"
+
+namespace mcpose::io {
+
+namespace {
+
+struct TjDeleter {
+  void operator()(void* handle) const { tjDestroy(handle); }
+};
+
+}  // namespace
+
+StatusOr<ColourImage> ReadJpeg(const std::string& path) {
+  MCPOSE_ASSIGN_OR_RETURN(std::string bytes, ReadFileToString(path));
+  std::unique_ptr<void, TjDeleter> tj(tjInitDecompress());
+  if (!tj) return Internal(path + ": cannot start the JPEG decoder");
+  auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
+  const unsigned long size = static_cast<unsigned long>(bytes.size());
+  int width = 0, height = 0, subsampling = 0, colorspace = 0;
+  if (tjDecompressHeader3(tj.get(), data, size, &width, &height, &subsampling, &colorspace) != 0)
+    return DataLoss(path + ": not a readable JPEG file (" + tjGetErrorStr2(tj.get()) + ")");
+  if (width <= 0 || height <= 0) return DataLoss(path + ": JPEG file has an empty image");
+  ColourImage image;
+  image.width = width, image.height = height;
+  try {
+    image.rgba.resize(4 * static_cast<size_t>(width) * height);
+  } catch (const std::exception&) {
+    return DataLoss(path + ": image too large to decode (" + std::to_string(width) + "x" + std::to_string(height) + ")");
+  }
+  // Any warning (a premature end of data, corrupt entropy data) is an error: the pixels would be
+  // partly made up.
+  if (tjDecompress2(tj.get(), data, size, image.rgba.data(), width, 0, height, TJPF_RGBA, TJFLAG_STOPONWARNING) != 0) {
+    const std::string what = tjGetErrorStr2(tj.get());
+    if (what.find("end of") != std::string::npos || what.find("Premature") != std::string::npos)
+      return DataLoss(path + ": JPEG file is truncated (" + what + ")");
+    return DataLoss(path + ": corrupt JPEG data (" + what + ")");
+  }
+  return image;
+}
+
+StatusOr<ColourImage> ReadColourImage(const std::string& path) {
+  unsigned char head[8] = {0};
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return NotFound(path + ": file does not exist or cannot be read");
+  in.read(reinterpret_cast<char*>(head), sizeof head);
+  const std::streamsize got = in.gcount();
+  static const unsigned char kPng[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (got == 8 && std::memcmp(head, kPng, 8) == 0) return ReadColourPng(path);
+  if (got >= 3 && head[0] == 0xFF && head[1] == 0xD8 && head[2] == 0xFF) return ReadJpeg(path);
+  return DataLoss(path + ": not a PNG or JPEG file");
+}
+
+}  // namespace mcpose::io

@@ -1,0 +1,69 @@
+// The colour test of one rendered hypothesis: over its depth inliers, the model's colour at the
+// surface point each pixel shows against the observed colour there.
+//
+// Deferred: the raster cores render depth only; for every depth-inlier pixel the kernel
+// back-projects the rendered depth to the camera point it shows, maps it into the model frame
+// and reads the model's colour there from a model-space grid (appearance/colour_grid.h, baked
+// from a texture or vertex colours). The colour's resolution is that grid's, whatever mesh
+// level rendered the depth.
+//
+// What is summed are exact integers, so the SIMD kernel (colour_simd.cc) gives the same sums as
+// the scalar reference (colour.cc) on every target.
+#pragma once
+
+#include <cstdint>
+
+#include "render/raster.h"
+
+namespace mcpose::score {
+
+// A model's colour grid as the kernels read it. Cell (i, j, k) covers
+// origin + cell_m * ([i, i + 1) x [j, j + 1) x [k, k + 1)); cells[(k * ny + j) * nx + i] is
+// RGBA8 packed little-endian (red in the low byte). Alpha below 128 means unknown.
+struct ColourLookup {
+  const uint32_t* cells = nullptr;
+  int nx = 0, ny = 0, nz = 0;
+  float origin[3] = {0, 0, 0};  // model frame, metres
+  float inv_cell = 0;           // 1 / cell_m
+};
+
+inline constexpr uint32_t kKnownAlpha = 128;
+
+// Sums over the pixels counted, per channel (red, green, blue): model m, observed o.
+struct ColourStats {
+  int64_t n = 0;
+  int64_t m[3] = {0, 0, 0}, o[3] = {0, 0, 0};
+  int64_t mm[3] = {0, 0, 0}, oo[3] = {0, 0, 0}, mo[3] = {0, 0, 0};
+  bool operator==(const ColourStats&) const = default;
+};
+
+// One sample in one box. Box-relative pixel (x, y) of the grid sits at grid pixel
+// (grid_x0 + x, grid_y0 + y), which looks along ((u - cx) * inv_fx, (v - cy) * inv_fy, 1).
+struct ColourSample {
+  const float* rendered = nullptr;         // the sample's z-buffer, +inf where nothing was drawn
+  const float* observed = nullptr;         // observed depth, 0 where invalid (reference)
+  const float* observed_or_nan = nullptr;  // the same with NaN where invalid (SIMD)
+  const uint32_t* observed_rgba = nullptr; // observed colour, RGBA8 packed; alpha 0: none
+  int stride = 0;                          // row stride of the three, pixels
+  render::PixelRect rect;                  // box-relative pixels to test (nothing drawn outside)
+  float eps_m = 0.01f;                     // the depth-inlier threshold
+  float grid_x0 = 0, grid_y0 = 0, cx = 0, cy = 0, inv_fx = 0, inv_fy = 0;
+  float R_model_cam[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};  // row-major
+  float t_model_cam[3] = {0, 0, 0};                     // p_model = R p_cam + t
+};
+
+// Counts pixel (x, y) when it is a depth inlier (drawn, observed depth valid, |z_r - z_o| <
+// eps), its observed colour is there and its model colour is known: the reference, a pixel at a
+// time, in the order the SIMD kernel's float operations follow.
+ColourStats CountColour(const ColourSample& sample, const ColourLookup& lookup);
+// The same sums a Highway vector of pixels at a time (colour_simd.cc, dispatched at run time).
+ColourStats CountColourSimd(const ColourSample& sample, const ColourLookup& lookup);
+
+// The colour agreement A of a sample in [0, 1]: (1 + r) / 2, r the mean over red, green and
+// blue of the correlation of model and observed colour over the counted pixels (so a gain or an
+// offset of the light in the frame does not change it). kNeutralAgreement when fewer than
+// `min_pixels` pixels were counted or no channel varies.
+inline constexpr double kNeutralAgreement = 0.5;
+double ColourAgreement(const ColourStats& stats, int min_pixels);
+
+}  // namespace mcpose::score
