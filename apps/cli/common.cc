@@ -52,6 +52,16 @@ void AddEstimatorFlags(CLI::App* cmd, unsigned groups, EstimatorFlags* f) {
                     "Diffusion: probability that a resampled sample turns 180 degrees about a model axis, [0, 1]")
         ->capture_default_str();
   }
+  if (groups & kAppearanceFlags) {
+    cmd->add_option("--appearance", f->appearance,
+                    "Colour: on (a colour term in the weight wherever the model and the frame have colour) or off "
+                    "(depth only)")->capture_default_str();
+    cmd->add_option("--colour-weight", o.appearance.weight,
+                    "d in w = (1 - d) w_depth + d A, A the colour agreement of the depth inliers, [0, 1)")
+        ->capture_default_str();
+    cmd->add_option("--colour-min-pixels", o.appearance.min_pixels,
+                    "Fewer depth inliers of known colour than this: the neutral A = 0.5")->capture_default_str();
+  }
   if (groups & kEngineFlags) {
     cmd->add_option("--engine", f->engine,
                     "Raster core: scalar (float reference), float-simd (the reference a vector at a time, same "
@@ -94,6 +104,11 @@ Status EstimatorFlags::Finish() {
     o.weight.inlier = InlierMode::k3D;
   } else {
     return InvalidArgument("--inlier must be 1d or 3d, got '" + inlier + "'");
+  }
+  if (appearance == "on" || appearance == "off") {
+    o.appearance.enabled = appearance == "on";
+  } else {
+    return InvalidArgument("--appearance must be on or off, got '" + appearance + "'");
   }
   if (!weights.empty()) {
     if (weights.size() != 3) return InvalidArgument("--weights takes three numbers a b c");

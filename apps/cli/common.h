@@ -19,7 +19,8 @@ enum FlagGroup : unsigned {
   kWeightFlags = 1u << 2,    // --inlier --eps --weights --[no-]occlusion-aware
   kSearchFlags = 1u << 3,    // initialization, resampling and diffusion
   kEngineFlags = 1u << 4,    // --engine, its features, --threads, --simd-target
-  kAllEstimatorFlags = 0x1f,
+  kAppearanceFlags = 1u << 5,  // --appearance --colour-weight --colour-min-pixels
+  kAllEstimatorFlags = 0x3f,
 };
 
 // The estimator's options as flags: parsed into `options` and finished by Finish().
@@ -27,6 +28,7 @@ struct EstimatorFlags {
   EstimatorOptions options;
   std::string engine = RasterBackendName(EstimatorOptions{}.engine.backend);
   std::string inlier = "1d";
+  std::string appearance = "on";
   std::string simd_target;
   std::vector<double> weights;
   CLI::Option* lod_unbiased = nullptr;

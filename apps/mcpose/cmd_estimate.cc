@@ -17,7 +17,7 @@ namespace mcpose::cli {
 namespace {
 
 struct EstimateArgs {
-  std::string dataset, split = "test", detections, out, out_json;
+  std::string dataset, split = "test", models, detections, out, out_json;
   bool quiet = false;
   EstimatorFlags flags;
 };
@@ -52,6 +52,7 @@ nlohmann::json ObjectJson(const ObjectRecord& r) {
       {"time_s", r.time_s},
       {"box_triangles", e.box_triangles},
       {"depth_pixels_read", e.depth_pixels_read},
+      {"colour", e.colour},
       {"counters", io::CountersToJson(e.Totals())},
   };
 }
@@ -63,7 +64,7 @@ Status RunEstimate(EstimateArgs& a) {
   // ---- Inputs and outputs, checked before any work -------------------------------------
   MCPOSE_RETURN_IF_ERROR(CheckWritable(a.out));
   if (!a.out_json.empty()) MCPOSE_RETURN_IF_ERROR(CheckWritable(a.out_json));
-  MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<Dataset> dataset, Dataset::Open(a.dataset, a.split));
+  MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<Dataset> dataset, Dataset::Open(a.dataset, a.split, a.models));
   MCPOSE_ASSIGN_OR_RETURN(std::vector<Detection> detections, ReadDetectionsJson(a.detections));
   if (detections.empty()) return InvalidArgument(a.detections + ": holds no detections");
 
@@ -83,7 +84,8 @@ Status RunEstimate(EstimateArgs& a) {
     nlohmann::json options = io::OptionsToJson(o);
     options["engine"]["simd_target"] = ActiveSimdTarget();
     nlohmann::json doc = {
-        {"dataset", a.dataset}, {"detections", a.detections}, {"options", options}, {"objects", objects}};
+        {"dataset", a.dataset}, {"models", dataset->models_dir()}, {"detections", a.detections},
+        {"options", options}, {"objects", objects}};
     MCPOSE_RETURN_IF_ERROR(WriteFileAtomically(a.out_json, doc.dump(1) + "\n"));
   }
   MCPOSE_RETURN_IF_ERROR(WriteResultsCsv(a.out, report.results));
@@ -106,6 +108,9 @@ void AddEstimateCommand(CLI::App& app, Status* status) {
   CLI::App* cmd = app.add_subcommand("estimate", "Estimate one 6-DoF pose per (image, class) from 2D detections");
   cmd->add_option("--dataset", args->dataset, "Dataset root (YCB-Video native or BOP layout, auto-detected)")->required();
   cmd->add_option("--split", args->split, "BOP split folder")->capture_default_str();
+  cmd->add_option("--models", args->models,
+                  "Models folder in the dataset's layout to read meshes (and their colour) from instead of the "
+                  "dataset's own, e.g. one written by capture-appearance");
   cmd->add_option("--detections", args->detections, "BOP default-detections JSON")->required();
   cmd->add_option("--out", args->out, "Results CSV (BOP format: scene_id,im_id,obj_id,score,R,t,time)")->required();
   cmd->add_option("--out-json", args->out_json, "Per-object detail: chosen box, per-iteration weights and times, engine counters");

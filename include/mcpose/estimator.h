@@ -54,6 +54,7 @@ struct ObjectEstimate {
   std::vector<IterationSummary> iterations;  // one per scored generation, in order
   std::vector<int> box_triangles;  // triangles of the mesh (LOD level) each box renders
   int64_t depth_pixels_read = 0;   // observed depth pixels the depth distributor cut out
+  bool colour = false;             // whether the weight had its colour term
 
   double final_mean_weight() const { return iterations.empty() ? 0 : iterations.back().mean_weight; }
   EngineCounters Totals() const;  // the counters summed over the iterations
@@ -75,6 +76,10 @@ class Estimator {
   // result depends on (seed, stream_id) only, never on the thread count.
   StatusOr<ObjectEstimate> Estimate(const Intrinsics& K, const DepthImage& depth, const Mesh& mesh,
                                     std::span<const Detection> boxes, uint64_t stream_id);
+  // The same with the frame's colour image (registered to the depth image, same size): the
+  // weight has its colour term when the mesh has colour and options().appearance allows it.
+  StatusOr<ObjectEstimate> Estimate(const Intrinsics& K, const DepthImage& depth, const ColourImage* colour,
+                                    const Mesh& mesh, std::span<const Detection> boxes, uint64_t stream_id);
 
   // Builds the level-of-detail chains (and their culling clusters) of these meshes now, one
   // mesh per raster core, instead of one at a time on their first Estimate. Optional: the

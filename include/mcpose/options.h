@@ -114,6 +114,19 @@ struct EngineOptions {
   void DropUnusableFeatures();
 };
 
+// Colour: a term of the weight that tells apart poses depth alone cannot (a box turned 180
+// degrees, a can about its axis). Used for an object class wherever its model has colour
+// (a texture or vertex colours) and the frame has a colour image.
+struct AppearanceOptions {
+  // false: depth only, the poses of an estimator without colour exactly.
+  bool enabled = true;
+  // d in w = (1 - d) (a N/N_b + b N/N_r + c score) + d A, with A in [0, 1] the colour
+  // agreement of the depth inliers (score/colour.h), [0, 1).
+  double weight = 0.3;
+  // A sample with fewer depth inliers of known colour than this gets the neutral A = 0.5.
+  int min_pixels = 20;
+};
+
 struct EstimatorOptions {
   int samples = 620;         // per object class per image, over all its boxes, >= 1
   int max_iterations = 50;   // >= 1
@@ -125,6 +138,7 @@ struct EstimatorOptions {
   ResampleOptions resample;
   DiffusionOptions diffusion;
   EngineOptions engine;
+  AppearanceOptions appearance;
 
   // True if every field is in range and every feature asked for has an effect; otherwise
   // false with a message naming the field(s).

@@ -23,14 +23,37 @@ void ClearScalar(float* zbuf, int stride, const render::PixelRect& rel) {
   for (int y = rel.y0; y < rel.y1; ++y) std::fill_n(zbuf + static_cast<size_t>(y) * stride + rel.x0, rel.width(), INFINITY);
 }
 
-score::InlierCounts Count(const score::BoxObservation& box, const float* zbuf, const render::PixelRect& rel,
-                          const SampleSettings& settings, bool simd) {
+score::InlierCounts Count(const BoxTarget& target, const float* zbuf, const render::PixelRect& rel,
+                          const Eigen::Matrix3f& R, const Eigen::Vector3f& t, const SampleSettings& settings,
+                          bool simd) {
+  const score::BoxObservation& box = *target.observed;
   const int stride = box.rect.width();
-  if (settings.inlier_mode == InlierMode::k3D)
-    return box.cloud->CountInliers3D(std::span<const float>(zbuf, static_cast<size_t>(box.rect.area())), settings.eps_m);
-  if (simd)
-    return score::CountInliers1DInRectSimd(zbuf, box.observed_or_nan.data(), stride, rel, box.n_observed, settings.eps_m);
-  return score::CountInliers1DInRect(zbuf, box.observed.data(), stride, rel, box.n_observed, settings.eps_m);
+  score::InlierCounts counts;
+  if (settings.inlier_mode == InlierMode::k3D) {
+    counts = box.cloud->CountInliers3D(std::span<const float>(zbuf, static_cast<size_t>(box.rect.area())), settings.eps_m);
+  } else if (simd) {
+    counts = score::CountInliers1DInRectSimd(zbuf, box.observed_or_nan.data(), stride, rel, box.n_observed, settings.eps_m);
+  } else {
+    counts = score::CountInliers1DInRect(zbuf, box.observed.data(), stride, rel, box.n_observed, settings.eps_m);
+  }
+  if (!target.colour) return counts;
+  // The colour of the depth inliers: camera to model is (R^T, -R^T t).
+  score::ColourSample c;
+  c.rendered = zbuf;
+  c.observed = box.observed.data(), c.observed_or_nan = box.observed_or_nan.data();
+  c.observed_rgba = box.observed_rgba.data();
+  c.stride = stride;
+  c.rect = rel;
+  c.eps_m = settings.eps_m;
+  c.grid_x0 = static_cast<float>(box.rect.x0), c.grid_y0 = static_cast<float>(box.rect.y0);
+  c.cx = static_cast<float>(box.K_grid.cx), c.cy = static_cast<float>(box.K_grid.cy);
+  c.inv_fx = static_cast<float>(1.0 / box.K_grid.fx), c.inv_fy = static_cast<float>(1.0 / box.K_grid.fy);
+  const Eigen::Matrix3f Rt = R.transpose();
+  const Eigen::Vector3f tm = -(Rt * t);
+  for (int i = 0; i < 9; ++i) c.R_model_cam[i] = Rt(i / 3, i % 3);
+  for (int a = 0; a < 3; ++a) c.t_model_cam[a] = tm[a];
+  counts.colour = simd ? score::CountColourSimd(c, *target.colour) : score::CountColour(c, *target.colour);
+  return counts;
 }
 
 }  // namespace mcpose::backends::steps

@@ -25,12 +25,14 @@
 
 namespace mcpose::backends {
 
-// One box as every sample rendered in it sees it: its observed depth, the mesh (LOD level) it
-// renders and, optionally, that mesh's culling clusters.
+// One box as every sample rendered in it sees it: its observation, the mesh (LOD level) it
+// renders and, optionally, that mesh's culling clusters and the model's colour grid (then the
+// box's observation has colour too, and each sample's colour test runs after its depth count).
 struct BoxTarget {
   const score::BoxObservation* observed = nullptr;
   const Mesh* mesh = nullptr;
   const render::ClusterSet* clusters = nullptr;  // null: walk every triangle
+  const score::ColourLookup* colour = nullptr;   // null: depth only
 };
 
 // Settings of a whole batch (from EstimatorOptions).
@@ -75,9 +77,11 @@ render::PixelRect RelativeCover(const score::BoxObservation& box, const render::
 // Sets the z-buffer to +infinity inside `rel`, a pixel or a SIMD vector at a time.
 void ClearScalar(float* zbuf, int stride, const render::PixelRect& rel);
 // The inlier counts of the rendered z-buffer, reading only `rel` for the 1-D test (SIMD or
-// scalar counter: the same counts) and the whole box for the 3-D test.
-score::InlierCounts Count(const score::BoxObservation& box, const float* zbuf, const render::PixelRect& rel,
-                          const SampleSettings& settings, bool simd);
+// scalar counter: the same counts) and the whole box for the 3-D test; then, with a colour
+// grid, the colour test of the depth inliers (score/colour.h) of the pose R, t.
+score::InlierCounts Count(const BoxTarget& box, const float* zbuf, const render::PixelRect& rel,
+                          const Eigen::Matrix3f& R, const Eigen::Vector3f& t, const SampleSettings& settings,
+                          bool simd);
 
 }  // namespace steps
 

@@ -41,7 +41,7 @@ class FixedPoint final : public Backend {
                                          snapped);
     }
     // Count.
-    return steps::Count(obs, s->zbuf.data(), rel, settings, /*simd=*/false);
+    return steps::Count(box, s->zbuf.data(), rel, R, t, settings, /*simd=*/false);
   }
 };
 

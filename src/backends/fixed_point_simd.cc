@@ -44,7 +44,7 @@ class FixedPointSimd final : public Backend {
                                          snapped);
     }
     // Count.
-    return steps::Count(obs, s->zbuf.data(), rel, settings, /*simd=*/true);
+    return steps::Count(box, s->zbuf.data(), rel, R, t, settings, /*simd=*/true);
   }
 };
 

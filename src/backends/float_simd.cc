@@ -26,7 +26,7 @@ class FloatSimd final : public Backend {
     render::ClearDepthRectSimd(s->zbuf.data(), obs.rect.width(), rel);
     render::RasterizeDepthFloatSimd(vertices, box.mesh->triangles, params, s->zbuf.data(), stats);
     // Count.
-    return steps::Count(obs, s->zbuf.data(), rel, settings, /*simd=*/true);
+    return steps::Count(box, s->zbuf.data(), rel, R, t, settings, /*simd=*/true);
   }
 };
 

@@ -25,7 +25,7 @@ class ScalarReference final : public Backend {
     steps::ClearScalar(s->zbuf.data(), obs.rect.width(), rel);
     render::RasterizeDepthReference(vertices, box.mesh->triangles, params, s->zbuf.data(), stats);
     // Count.
-    return steps::Count(obs, s->zbuf.data(), rel, settings, /*simd=*/false);
+    return steps::Count(box, s->zbuf.data(), rel, R, t, settings, /*simd=*/false);
   }
 };
 

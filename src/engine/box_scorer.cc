@@ -42,7 +42,8 @@ int BoxStride(const render::PixelRect& rect, const EngineOptions& options) {
 
 StatusOr<std::unique_ptr<BoxScorer>> BoxScorer::Create(Context& context, const Intrinsics& K,
                                                        const DepthImage& depth, const Mesh& mesh,
-                                                       std::span<const Detection> boxes) {
+                                                       std::span<const Detection> boxes,
+                                                       const ColourImage* colour) {
   const EstimatorOptions& opt = context.options();
   // ---- Validate the inputs at the boundary ---------------------------------------------
   std::string error;
@@ -51,6 +52,11 @@ StatusOr<std::unique_ptr<BoxScorer>> BoxScorer::Create(Context& context, const I
       depth.depth_m.size() != static_cast<size_t>(depth.width) * depth.height) {
     return InvalidArgument("depth image is " + std::to_string(depth.width) + "x" + std::to_string(depth.height) +
                            " but the intrinsics say " + std::to_string(K.width) + "x" + std::to_string(K.height));
+  }
+  if (colour && (colour->width != depth.width || colour->height != depth.height ||
+                 colour->rgba.size() != 4 * static_cast<size_t>(depth.width) * depth.height)) {
+    return InvalidArgument("colour image is " + std::to_string(colour->width) + "x" + std::to_string(colour->height) +
+                           " but the depth image is " + std::to_string(depth.width) + "x" + std::to_string(depth.height));
   }
   MCPOSE_RETURN_IF_ERROR(mesh.Validate("mesh"));
   if (boxes.empty()) return InvalidArgument("no boxes given");
@@ -65,15 +71,19 @@ StatusOr<std::unique_ptr<BoxScorer>> BoxScorer::Create(Context& context, const I
   s.K_ = K;
   s.mesh_ = &mesh;
   s.detections_.assign(boxes.begin(), boxes.end());
-  // ---- Depth distributor: each box's observed depth, cut out once -----------------------
+  // ---- The colour term: the model's colour grid, when there is colour on both sides -------
+  if (colour) s.colour_ = context.Colour(mesh);
+  if (s.colour_) s.colour_lookup_ = s.colour_->lookup();
+  // ---- Depth distributor: each box's observation, cut out once ---------------------------
   for (const Detection& d : boxes) {
     const render::PixelRect rect = ClipBox(d.x, d.y, d.w, d.h, K.width, K.height);
-    s.observed_.push_back(score::DistributeBox(depth, K, rect, d.score, opt.weight.inlier, BoxStride(rect, opt.engine)));
+    s.observed_.push_back(score::DistributeBox(depth, K, rect, d.score, opt.weight.inlier, BoxStride(rect, opt.engine),
+                                               s.colour_ ? colour : nullptr));
   }
   // ---- Level of detail: per box, the coarsest mesh within the pixel error budget ----------
   s.lod_ = context.Lod(mesh);
   for (size_t b = 0; b < boxes.size(); ++b) {
-    backends::BoxTarget target{&s.observed_[b], &mesh, nullptr};
+    backends::BoxTarget target{&s.observed_[b], &mesh, nullptr, s.colour_ ? &s.colour_lookup_ : nullptr};
     const render::LodLevel* level = nullptr;
     if (s.lod_) {
       level = &s.lod_->level(SelectLodLevel(*s.lod_, K, mesh, boxes[b], s.observed_[b], opt));
@@ -128,7 +138,15 @@ void BoxScorer::Weigh(filter::ParticleSet* particles, EngineCounters* counters) 
   counts_.resize(p.size());
   Count(p, counts_, counters);
   const WeightOptions& w = context_->options().weight;
-  for (size_t i = 0; i < p.size(); ++i) p.weight[i] = score::Weight(counts_[i], observed_[p.box[i]].score, w);
+  if (!colour_) {
+    for (size_t i = 0; i < p.size(); ++i) p.weight[i] = score::Weight(counts_[i], observed_[p.box[i]].score, w);
+    return;
+  }
+  const AppearanceOptions& a = context_->options().appearance;
+  for (size_t i = 0; i < p.size(); ++i) {
+    p.weight[i] = (1 - a.weight) * score::Weight(counts_[i], observed_[p.box[i]].score, w) +
+                  a.weight * score::ColourAgreement(counts_[i].colour, a.min_pixels);
+  }
 }
 
 }  // namespace mcpose::engine

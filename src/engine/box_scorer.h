@@ -36,11 +36,13 @@ int BoxStride(const render::PixelRect& rect, const EngineOptions& options);
 
 class BoxScorer {
  public:
-  // Checks the inputs (intrinsics, depth size, mesh, boxes: all of one class, each per
-  // CheckBox) and prepares every box. Errors name the box.
+  // Checks the inputs (intrinsics, depth and colour sizes, mesh, boxes: all of one class, each
+  // per CheckBox) and prepares every box. The colour term is used when `colour` is given, the
+  // mesh has colour and the options allow it. Errors name the box.
   static StatusOr<std::unique_ptr<BoxScorer>> Create(Context& context, const Intrinsics& K,
                                                      const DepthImage& depth, const Mesh& mesh,
-                                                     std::span<const Detection> boxes);
+                                                     std::span<const Detection> boxes,
+                                                     const ColourImage* colour = nullptr);
   BoxScorer(const BoxScorer&) = delete;
   BoxScorer& operator=(const BoxScorer&) = delete;
 
@@ -55,6 +57,9 @@ class BoxScorer {
   const render::LodLevel* box_level(int b) const { return levels_[static_cast<size_t>(b)]; }
   // Observed depth pixels cut out for all boxes: the union of their sample grids.
   int64_t depth_pixels_read() const;
+  // Whether the weight has its colour term (the model's colour grid, or null).
+  bool uses_colour() const { return colour_ != nullptr; }
+  const appearance::ColourGrid* colour_grid() const { return colour_.get(); }
 
   // Steps 2 and 3 of the filter: counts[i] = the inlier counts of particle i rendered in its
   // box, then particles->weight[i] its weight. Add the engine's counters to *counters.
@@ -73,6 +78,8 @@ class BoxScorer {
   std::vector<const render::LodLevel*> levels_;
   std::vector<backends::BoxTarget> targets_;
   backends::SampleSettings settings_;
+  std::shared_ptr<const appearance::ColourGrid> colour_;
+  score::ColourLookup colour_lookup_;
   std::vector<score::InlierCounts> counts_;  // Weigh's
 };
 

@@ -22,12 +22,27 @@ std::shared_ptr<const render::LodChain> Context::Lod(const Mesh& mesh) {
   return lod_cache_.emplace(key, std::move(built)).first->second;
 }
 
+std::shared_ptr<const appearance::ColourGrid> Context::Colour(const Mesh& mesh) {
+  if (!options_.appearance.enabled || mesh.appearance.empty()) return nullptr;
+  const uint64_t key = render::MeshFingerprint(mesh) ^ (appearance::AppearanceFingerprint(mesh.appearance) * 31);
+  {
+    std::lock_guard<std::mutex> lock(lod_mutex_);
+    if (auto it = colour_cache_.find(key); it != colour_cache_.end()) return it->second;
+  }
+  std::shared_ptr<const appearance::ColourGrid> built = appearance::ColourGrid::Build(mesh);
+  std::lock_guard<std::mutex> lock(lod_mutex_);
+  return colour_cache_.emplace(key, std::move(built)).first->second;
+}
+
 void Context::PrepareMeshes(std::span<const Mesh* const> meshes) {
-  if (!(options_.engine.lod_error_px > 0) || meshes.empty()) return;
+  if (meshes.empty()) return;
   pool().ParallelFor(
       static_cast<int64_t>(meshes.size()),
       [&](int64_t begin, int64_t end, int) {
-        for (int64_t i = begin; i < end; ++i) Lod(*meshes[static_cast<size_t>(i)]);
+        for (int64_t i = begin; i < end; ++i) {
+          Lod(*meshes[static_cast<size_t>(i)]);
+          Colour(*meshes[static_cast<size_t>(i)]);
+        }
       },
       /*chunks_per_thread=*/static_cast<int>(meshes.size()));
 }

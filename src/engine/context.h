@@ -10,6 +10,7 @@
 #include <mutex>
 #include <span>
 
+#include "appearance/colour_grid.h"
 #include "engine/raster_cores.h"
 #include "mcpose/mesh.h"
 #include "mcpose/options.h"
@@ -30,14 +31,18 @@ class Context {
   // LOD off. Thread-safe: chains are built outside the lock, and a chain built twice at the
   // same time is the same chain (the first is kept).
   std::shared_ptr<const render::LodChain> Lod(const Mesh& mesh);
-  // Builds the chains of these meshes now, one mesh per raster core.
+  // The colour grid of `mesh`'s appearance, baked on first use and cached by its content;
+  // null when the mesh has no colour or the options turn colour off. Thread-safe, as Lod.
+  std::shared_ptr<const appearance::ColourGrid> Colour(const Mesh& mesh);
+  // Builds the chains and colour grids of these meshes now, one mesh per raster core.
   void PrepareMeshes(std::span<const Mesh* const> meshes);
 
  private:
   EstimatorOptions options_;
   RasterCores cores_;
-  std::mutex lod_mutex_;
+  std::mutex lod_mutex_;  // guards both caches
   std::map<uint64_t, std::shared_ptr<const render::LodChain>> lod_cache_;
+  std::map<uint64_t, std::shared_ptr<const appearance::ColourGrid>> colour_cache_;
 };
 
 }  // namespace mcpose::engine

@@ -45,8 +45,14 @@ StatusOr<std::unique_ptr<Estimator>> Estimator::Create(const EstimatorOptions& o
 
 StatusOr<ObjectEstimate> Estimator::Estimate(const Intrinsics& K, const DepthImage& depth, const Mesh& mesh,
                                              std::span<const Detection> boxes, uint64_t stream_id) {
+  return Estimate(K, depth, nullptr, mesh, boxes, stream_id);
+}
+
+StatusOr<ObjectEstimate> Estimator::Estimate(const Intrinsics& K, const DepthImage& depth, const ColourImage* colour,
+                                             const Mesh& mesh, std::span<const Detection> boxes,
+                                             uint64_t stream_id) {
   MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<engine::BoxScorer> scorer,
-                          engine::BoxScorer::Create(*context_, K, depth, mesh, boxes));
+                          engine::BoxScorer::Create(*context_, K, depth, mesh, boxes, colour));
   return engine::RunFilter(*scorer, context_->options(), context_->pool(), stream_id);
 }
 

@@ -27,6 +27,7 @@ ObjectEstimate RunFilter(BoxScorer& scorer, const EstimatorOptions& opt, ThreadP
   for (int b = 0; b < scorer.num_boxes(); ++b)
     result.box_triangles.push_back(static_cast<int>(scorer.box_mesh(b).triangles.size()));
   result.depth_pixels_read = scorer.depth_pixels_read();
+  result.colour = scorer.uses_colour();
   const Mesh& mesh = scorer.mesh();
   filter::DiffusionStep step;
   step.flip_rate = opt.diffusion.flip_rate;

@@ -65,6 +65,9 @@ bool EstimatorOptions::IsValid(std::string* error) const {
   if (!(diffusion.flip_rate >= 0 && diffusion.flip_rate <= 1))
     return Fail(error, "diffusion.flip_rate must lie in [0, 1]");
 
+  if (!(appearance.weight >= 0 && appearance.weight < 1)) return Fail(error, "appearance.weight must lie in [0, 1)");
+  if (appearance.min_pixels < 2) return Fail(error, "appearance.min_pixels must be >= 2");
+
   if (!finite_nonnegative(engine.lod_error_px))
     return Fail(error, "engine.lod_error_px must be finite and >= 0 (0 = full mesh)");
   if (engine.pixel_stride < 1 || engine.pixel_stride > 16)

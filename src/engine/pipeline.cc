@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <map>
+#include <optional>
 #include <set>
 
 #include "core/rng.h"
@@ -60,7 +61,7 @@ StatusOr<RunReport> RunEstimation(const Dataset& dataset, const std::vector<Dete
   for (const auto& [key, by_class] : groups) total += static_cast<int>(by_class.size());
   std::vector<const Mesh*> mesh_list;
   for (const auto& [obj_id, mesh] : meshes) mesh_list.push_back(&mesh);
-  estimator->PrepareMeshes(mesh_list);  // the LOD chains, a mesh per raster core
+  estimator->PrepareMeshes(mesh_list);  // the LOD chains and colour grids, a mesh per raster core
 
   // ---- Estimate each (image, class) ------------------------------------------------------
   RunReport report;
@@ -68,12 +69,19 @@ StatusOr<RunReport> RunEstimation(const Dataset& dataset, const std::vector<Dete
   for (const auto& [key, by_class] : groups) {
     const auto image_start = Clock::now();
     MCPOSE_ASSIGN_OR_RETURN(Frame frame, dataset.LoadFrame(key));
+    // The colour image, when some class of the image has a model with colour to compare.
+    std::optional<ColourImage> colour;
+    bool wants_colour = false;
+    for (const auto& [obj_id, dets] : by_class) wants_colour |= !meshes.at(obj_id).appearance.empty();
+    if (options.appearance.enabled && wants_colour) {
+      MCPOSE_ASSIGN_OR_RETURN(colour, dataset.LoadColour(frame));
+    }
     const size_t first_row = report.results.size();
     for (const auto& [obj_id, dets] : by_class) {
       const auto start = Clock::now();
       MCPOSE_ASSIGN_OR_RETURN(
           ObjectEstimate est,
-          estimator->Estimate(frame.K, frame.depth, meshes.at(obj_id), dets,
+          estimator->Estimate(frame.K, frame.depth, colour ? &*colour : nullptr, meshes.at(obj_id), dets,
                               GroupStreamId(key.scene_id, key.image_id, obj_id)));
       ObjectRecord rec;
       rec.key = key;

@@ -28,6 +28,8 @@ nlohmann::json OptionsToJson(const EstimatorOptions& o) {
         {"sigma_r_min_rad", d.sigma_r_min_rad},
         {"anneal", d.anneal},
         {"flip_rate", d.flip_rate}}},
+      {"appearance",
+       {{"enabled", o.appearance.enabled}, {"weight", o.appearance.weight}, {"min_pixels", o.appearance.min_pixels}}},
       {"engine",
        {{"backend", RasterBackendName(e.backend)},
         {"backface_culling", e.backface_culling},

@@ -5,7 +5,7 @@
 namespace mcpose::score {
 
 BoxObservation DistributeBox(const DepthImage& depth, const Intrinsics& K, const render::PixelRect& rect,
-                         double score, InlierMode mode, int stride) {
+                             double score, InlierMode mode, int stride, const ColourImage* colour) {
   MCPOSE_CHECK_GE(stride, 1);
   BoxObservation b;
   b.image_rect = rect;
@@ -24,6 +24,16 @@ BoxObservation DistributeBox(const DepthImage& depth, const Intrinsics& K, const
     const float* src = depth.depth_m.data() + static_cast<size_t>(rect.y0 + j * stride) * depth.width + rect.x0;
     float* dst = b.observed.data() + static_cast<size_t>(j) * gw;
     for (int i = 0; i < gw; ++i) dst[i] = src[static_cast<size_t>(i) * stride];
+  }
+  if (colour) {
+    MCPOSE_CHECK(colour->width == depth.width && colour->height == depth.height);
+    b.observed_rgba.resize(b.observed.size());
+    for (int j = 0; j < gh; ++j)
+      for (int i = 0; i < gw; ++i) {
+        const uint8_t* p = colour->at(rect.x0 + i * stride, rect.y0 + j * stride);
+        b.observed_rgba[static_cast<size_t>(j) * gw + i] =
+            uint32_t{p[0]} | (uint32_t{p[1]} << 8) | (uint32_t{p[2]} << 16) | (uint32_t{p[3]} << 24);
+      }
   }
   b.n_observed = CountObserved(b.observed);
   b.observed_or_nan = ObservedOrNaN(b.observed);

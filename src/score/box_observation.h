@@ -1,5 +1,5 @@
-// The depth distributor: one box's observed depth, cut out of the frame once and shared by
-// every raster core and every iteration.
+// The depth distributor: one box's observed depth (and colour, when the colour term is used),
+// cut out of the frame once and shared by every raster core and every iteration.
 //
 // Pixel stride s: the box is scored on a grid of every s-th image pixel in x and y, starting at
 // its top-left pixel. The raster cores render into that grid as into a smaller image, through
@@ -29,11 +29,14 @@ struct BoxObservation {
   int32_t n_observed = 0;              // N_b
   double score = 0;                    // detector confidence
   std::unique_ptr<ObservedCloud> cloud;  // only for InlierMode::k3D
+  // Rect-sized observed colour, RGBA8 packed (red in the low byte), or empty without colour.
+  std::vector<uint32_t> observed_rgba;
 };
 
-// The BoxObservation of `rect` (image pixels, inside the image) at pixel stride `stride` >= 1.
+// The BoxObservation of `rect` (image pixels, inside the image) at pixel stride `stride` >= 1,
+// with the colour of `colour` (same size as `depth`) when it is given.
 BoxObservation DistributeBox(const DepthImage& depth, const Intrinsics& K, const render::PixelRect& rect,
-                         double score, InlierMode mode, int stride = 1);
+                             double score, InlierMode mode, int stride = 1, const ColourImage* colour = nullptr);
 
 // The raster-core parameters of a box: its grid projection and rect.
 render::RasterParams BoxRasterParams(const BoxObservation& box, bool cull_backfaces);

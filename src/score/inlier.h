@@ -12,6 +12,7 @@
 
 #include "mcpose/camera.h"
 #include "render/raster.h"
+#include "score/colour.h"
 
 namespace mcpose::score {
 
@@ -20,6 +21,7 @@ struct InlierCounts {
   int32_t rendered = 0;  // N_r
   int32_t observed = 0;  // N_b
   int32_t occluded = 0;  // rendered non-inlier pixels whose observed depth lies in front by >= eps
+  ColourStats colour;    // over the depth inliers, when the colour test ran (score/colour.h)
   bool operator==(const InlierCounts&) const = default;
 };
 
