@@ -1,6 +1,7 @@
 #include <cstdio>
 #include <algorithm>
 #include <map>
+#include <optional>
 #include <memory>
 
 #include <nlohmann/json.hpp>
@@ -20,7 +21,7 @@ using cli::WriteFileAtomically;
 namespace {
 
 struct TurnProfileArgs {
-  std::string dataset, split = "test", detections, json;
+  std::string dataset, split = "test", models, detections, json;
   int obj_id = 0;
   cli::EstimatorFlags flags;
   analysis::TurnProfileOptions turn;
@@ -39,7 +40,7 @@ Status RunTurnProfile(TurnProfileArgs& a) {
   std::string error;
   if (!a.turn.IsValid(&error)) return InvalidArgument("invalid turn options: " + error);
   if (!a.json.empty()) MCPOSE_RETURN_IF_ERROR(CheckWritable(a.json));
-  MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<Dataset> dataset, Dataset::Open(a.dataset, a.split));
+  MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<Dataset> dataset, Dataset::Open(a.dataset, a.split, a.models));
   MCPOSE_ASSIGN_OR_RETURN(std::vector<Detection> detections, ReadDetectionsJson(a.detections));
   MCPOSE_ASSIGN_OR_RETURN(Mesh mesh, dataset->LoadMesh(a.obj_id));
   // The images with boxes of the class, in order.
@@ -54,13 +55,17 @@ Status RunTurnProfile(TurnProfileArgs& a) {
               "LOD %.2f px, pixel stride %d\n",
               dataset->ObjectName(a.obj_id).c_str(), "xyz"[axis], a.turn.step_deg, a.turn.near_deg,
               RasterBackendName(o.engine.backend), o.engine.lod_error_px, o.engine.pixel_stride);
-  std::printf("%-12s %9s %6s %8s %9s %9s %7s\n", "scene/image", "triangles", "stride", "truth", "jitter", "range",
-              "beaten");
+  std::printf("%-12s %9s %6s %8s %9s %9s %7s | %8s %8s %8s\n", "scene/image", "triangles", "stride", "truth",
+              "jitter", "range", "beaten", "flip x", "flip y", "flip z");
   nlohmann::json instances = nlohmann::json::array();
   double sum_jitter = 0, sum_range = 0, sum_beaten = 0;
   int n = 0;
   for (const auto& [key, candidates] : boxes) {
     MCPOSE_ASSIGN_OR_RETURN(Frame frame, dataset->LoadFrame(key));
+    std::optional<ColourImage> colour;
+    if (o.appearance.enabled && !mesh.appearance.empty()) {
+      MCPOSE_ASSIGN_OR_RETURN(colour, dataset->LoadColour(frame));
+    }
     for (const GtInstance& gt : frame.gt) {
       if (gt.obj_id != a.obj_id) continue;
       MCPOSE_ASSIGN_OR_RETURN(MaskImage mask, dataset->LoadVisibleMask(key, gt));
@@ -70,20 +75,23 @@ Status RunTurnProfile(TurnProfileArgs& a) {
       for (const Detection& d : candidates)
         if (Iou(d, tight) > Iou(*box, tight)) box = &d;
       if (Iou(*box, tight) == 0) continue;  // a distractor box elsewhere
-      auto profile = analysis::ProfileTurns(frame.K, frame.depth, mesh, *box, gt.T_cam_obj, o, a.turn);
+      auto profile = analysis::ProfileTurns(frame.K, frame.depth, colour ? &*colour : nullptr, mesh, *box,
+                                            gt.T_cam_obj, o, a.turn);
       if (!profile.ok())
         return Status(profile.status().code(), "scene " + std::to_string(key.scene_id) + " image " +
                                                    std::to_string(key.image_id) + ": " + profile.status().message());
       const analysis::TurnProfileStats& s = profile->stats;
-      std::printf("%-12s %9d %6d %8.5f %9.5f %9.5f %6.1f%%\n",
+      std::printf("%-12s %9d %6d %8.5f %9.5f %9.5f %6.1f%% | %8.5f %8.5f %8.5f%s\n",
                   (std::to_string(key.scene_id) + "/" + std::to_string(key.image_id)).c_str(), profile->triangles,
-                  profile->stride, s.truth, s.jitter, s.range, 100 * s.beaten);
+                  profile->stride, s.truth, s.jitter, s.range, 100 * s.beaten, profile->flip_weight[0],
+                  profile->flip_weight[1], profile->flip_weight[2], profile->colour ? "  colour" : "");
       sum_jitter += s.jitter, sum_range += s.range, sum_beaten += s.beaten, ++n;
       instances.push_back({{"scene_id", key.scene_id}, {"im_id", key.image_id}, {"gt_index", gt.gt_index},
                            {"box", {box->x, box->y, box->w, box->h}}, {"triangles", profile->triangles},
                            {"stride", profile->stride}, {"angle_deg", profile->angle_deg},
                            {"weight", profile->weight}, {"truth", s.truth}, {"jitter", s.jitter},
-                           {"range", s.range}, {"beaten", s.beaten}});
+                           {"range", s.range}, {"beaten", s.beaten}, {"colour", profile->colour},
+                           {"flip_weight", profile->flip_weight}});
     }
   }
   if (n == 0)
@@ -120,7 +128,8 @@ void AddTurnProfileCommand(CLI::App& app, Status* status) {
                                              "other two (a can's axis)")->capture_default_str();
   cmd->add_option("--step-deg", args->turn.step_deg, "Turn step, degrees (divides 360, at most 45)")->capture_default_str();
   cmd->add_option("--near-deg", args->turn.near_deg, "Turns within this of the truth count as the truth")->capture_default_str();
-  cli::AddEstimatorFlags(cmd, cli::kWeightFlags | cli::kEngineFlags, &args->flags);
+  cmd->add_option("--models", args->models, "Models folder to read meshes (and their colour) from");
+  cli::AddEstimatorFlags(cmd, cli::kWeightFlags | cli::kEngineFlags | cli::kAppearanceFlags, &args->flags);
   cmd->add_option("--json", args->json, "Also write each instance's profile (angles, weights) and the statistics");
   cmd->callback([args, status] { *status = RunTurnProfile(*args); });
 }

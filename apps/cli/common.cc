@@ -59,6 +59,10 @@ void AddEstimatorFlags(CLI::App* cmd, unsigned groups, EstimatorFlags* f) {
     cmd->add_option("--colour-weight", o.appearance.weight,
                     "d in w = (1 - d) w_depth + d A, A the colour agreement of the depth inliers, [0, 1)")
         ->capture_default_str();
+    cmd->add_option("--colour-space", f->colour_space,
+                    "What the colour term compares: intensity-hue (intensity and normalised colour), chroma (normalised "
+                    "colour, which shading does not change) or rgb")
+        ->capture_default_str();
     cmd->add_option("--colour-min-pixels", o.appearance.min_pixels,
                     "Fewer depth inliers of known colour than this: the neutral A = 0.5")->capture_default_str();
   }
@@ -109,6 +113,15 @@ Status EstimatorFlags::Finish() {
     o.appearance.enabled = appearance == "on";
   } else {
     return InvalidArgument("--appearance must be on or off, got '" + appearance + "'");
+  }
+  if (colour_space == "rgb") {
+    o.appearance.space = AppearanceOptions::Space::kRgb;
+  } else if (colour_space == "chroma") {
+    o.appearance.space = AppearanceOptions::Space::kChroma;
+  } else if (colour_space == "intensity-hue") {
+    o.appearance.space = AppearanceOptions::Space::kIntensityHue;
+  } else {
+    return InvalidArgument("--colour-space must be intensity-hue, chroma or rgb, got '" + colour_space + "'");
   }
   if (!weights.empty()) {
     if (weights.size() != 3) return InvalidArgument("--weights takes three numbers a b c");

@@ -29,6 +29,7 @@ struct EstimatorFlags {
   std::string engine = RasterBackendName(EstimatorOptions{}.engine.backend);
   std::string inlier = "1d";
   std::string appearance = "on";
+  std::string colour_space = "intensity-hue";
   std::string simd_target;
   std::vector<double> weights;
   CLI::Option* lod_unbiased = nullptr;

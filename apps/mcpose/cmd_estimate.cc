@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 
@@ -18,6 +19,7 @@ namespace {
 
 struct EstimateArgs {
   std::string dataset, split = "test", models, detections, out, out_json;
+  std::vector<int> scenes;
   bool quiet = false;
   EstimatorFlags flags;
 };
@@ -67,6 +69,12 @@ Status RunEstimate(EstimateArgs& a) {
   MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<Dataset> dataset, Dataset::Open(a.dataset, a.split, a.models));
   MCPOSE_ASSIGN_OR_RETURN(std::vector<Detection> detections, ReadDetectionsJson(a.detections));
   if (detections.empty()) return InvalidArgument(a.detections + ": holds no detections");
+  if (!a.scenes.empty()) {
+    std::erase_if(detections, [&](const Detection& d) {
+      return std::find(a.scenes.begin(), a.scenes.end(), d.scene_id) == a.scenes.end();
+    });
+    if (detections.empty()) return InvalidArgument(a.detections + ": holds no detections of the scenes given by --scene");
+  }
 
   // ---- Run ------------------------------------------------------------------------------
   auto progress = [&](int done, int total, const ObjectRecord& r) {
@@ -112,6 +120,7 @@ void AddEstimateCommand(CLI::App& app, Status* status) {
                   "Models folder in the dataset's layout to read meshes (and their colour) from instead of the "
                   "dataset's own, e.g. one written by capture-appearance");
   cmd->add_option("--detections", args->detections, "BOP default-detections JSON")->required();
+  cmd->add_option("--scene", args->scenes, "Estimate only the detections of this scene_id (may be repeated)");
   cmd->add_option("--out", args->out, "Results CSV (BOP format: scene_id,im_id,obj_id,score,R,t,time)")->required();
   cmd->add_option("--out-json", args->out_json, "Per-object detail: chosen box, per-iteration weights and times, engine counters");
   AddEstimatorFlags(cmd, kAllEstimatorFlags, &args->flags);

@@ -70,7 +70,12 @@ Status RunEval(const EvalArgs& a) {
       inst.push_back({{"scene_id", e.key.scene_id}, {"im_id", e.key.image_id}, {"obj_id", e.obj_id},
                       {"gt_index", e.gt_index}, {"visible_pixels", e.visible_pixels},
                       {"has_result", e.has_result}, {"add_m", Metres(e.add_m)},
-                      {"adds_m", Metres(e.adds_m)}, {"add_or_adds_m", Metres(e.add_or_adds_m)}});
+                      {"adds_m", Metres(e.adds_m)}, {"add_or_adds_m", Metres(e.add_or_adds_m)},
+                      {"rotation_error_deg", Metres(e.rotation_error_deg)},
+                      {"rotation_error_axis", e.has_result ? nlohmann::json({e.rotation_error_axis.x(), e.rotation_error_axis.y(),
+                                                                             e.rotation_error_axis.z()})
+                                                           : nlohmann::json()},
+                      {"translation_error_mm", Metres(e.translation_error_mm)}});
     }
     nlohmann::json per_object = nlohmann::json::array();
     for (const auto& s : report.per_object) per_object.push_back(SummaryJson(s));

@@ -12,5 +12,6 @@ void AddEstimateCommand(CLI::App& app, Status* status);
 void AddDetectionsFromGtCommand(CLI::App& app, Status* status);
 void AddEvalCommand(CLI::App& app, Status* status);
 void AddBenchCommand(CLI::App& app, Status* status);
+void AddCaptureCommand(CLI::App& app, Status* status);
 
 }  // namespace mcpose::cli

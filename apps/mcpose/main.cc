@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
   mcpose::cli::AddDetectionsFromGtCommand(app, &status);
   mcpose::cli::AddEvalCommand(app, &status);
   mcpose::cli::AddBenchCommand(app, &status);
+  mcpose::cli::AddCaptureCommand(app, &status);
   spdlog::set_pattern("[%H:%M:%S] %v");
   try {
     app.parse(argc, argv);

@@ -2,6 +2,7 @@
 // 2 cm and 4 cm, and the area under the accuracy-threshold curve up to 10 cm.
 #pragma once
 
+#include <cmath>
 #include <set>
 #include <string>
 #include <vector>
@@ -38,6 +39,10 @@ struct InstanceEval {
   int visible_pixels = 0;
   bool has_result = false;
   double add_m = 0, adds_m = 0, add_or_adds_m = 0;  // +infinity when has_result is false
+  // The estimate relative to the truth, R_gt^T R_est as an angle (degrees) about an axis in the
+  // model frame, and |t_est - t_gt| (mm); NaN when has_result is false.
+  double rotation_error_deg = NAN, translation_error_mm = NAN;
+  Eigen::Vector3d rotation_error_axis = Eigen::Vector3d::Constant(NAN);
 };
 
 struct AccuracySummary {

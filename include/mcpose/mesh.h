@@ -25,7 +25,8 @@ struct Rgba8 {
 struct MeshAppearance {
   std::vector<Rgba8> vertex_colours;  // empty, or one per vertex
   // Empty, or one per triangle: (u, v) of its corners, v = 0 at the bottom row of the texture
-  // (the OBJ convention); NaN for a face without texture coordinates.
+  // (the OBJ convention); NaN for a face without texture coordinates. Kept without a texture
+  // too (a mesh's texture layout, which appearance capture fills).
   std::vector<std::array<Eigen::Vector2f, 3>> triangle_uv;
   std::shared_ptr<const ColourImage> texture;  // with triangle_uv
   std::string source;                          // the file the colour came from

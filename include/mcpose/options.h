@@ -125,6 +125,11 @@ struct AppearanceOptions {
   double weight = 0.3;
   // A sample with fewer depth inliers of known colour than this gets the neutral A = 0.5.
   int min_pixels = 20;
+  // What is compared: kRgb the colour as it is; kChroma the normalised colour c / (r + g + b),
+  // which shading does not change (pixels darker than r + g + b = 30 count as unknown);
+  // kIntensityHue the intensity and two channels of the normalised colour.
+  enum class Space { kRgb, kChroma, kIntensityHue };
+  Space space = Space::kIntensityHue;
 };
 
 struct EstimatorOptions {

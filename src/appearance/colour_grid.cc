@@ -138,12 +138,20 @@ std::shared_ptr<const ColourGrid> ColourGrid::Build(const Mesh& mesh) {
       }
     }
   }
+  g.chroma_cells_.resize(cells);
+  g.intensity_hue_cells_.resize(cells);
+  for (size_t c = 0; c < cells; ++c) {
+    g.chroma_cells_[c] = score::ChromaOf(g.cells_[c]);
+    g.intensity_hue_cells_[c] = score::IntensityHueOf(g.cells_[c]);
+  }
   return grid;
 }
 
-score::ColourLookup ColourGrid::lookup() const {
+score::ColourLookup ColourGrid::lookup(AppearanceOptions::Space space) const {
   score::ColourLookup l;
-  l.cells = cells_.data();
+  l.cells = space == AppearanceOptions::Space::kChroma          ? chroma_cells_.data()
+            : space == AppearanceOptions::Space::kIntensityHue ? intensity_hue_cells_.data()
+                                                                : cells_.data();
   l.nx = nx_, l.ny = ny_, l.nz = nz_;
   for (int a = 0; a < 3; ++a) l.origin[a] = origin_[a];
   l.inv_cell = 1.0f / cell_m_;

@@ -15,6 +15,7 @@
 
 #include "mcpose/image.h"
 #include "mcpose/mesh.h"
+#include "mcpose/options.h"
 #include "score/colour.h"
 
 namespace mcpose::appearance {
@@ -35,7 +36,8 @@ class ColourGrid {
   // The grid of `mesh`'s appearance, or null if it has none.
   static std::shared_ptr<const ColourGrid> Build(const Mesh& mesh);
 
-  score::ColourLookup lookup() const;
+  // The grid as the colour kernels read it: the colour, or its form in another space.
+  score::ColourLookup lookup(AppearanceOptions::Space space = AppearanceOptions::Space::kRgb) const;
   // The colour of the cell holding model point p (alpha 0 outside the grid or unknown).
   Rgba8 At(const Eigen::Vector3f& p_model) const;
   float cell_m() const { return cell_m_; }
@@ -43,7 +45,7 @@ class ColourGrid {
   double known_fraction() const { return known_fraction_; }
 
  private:
-  std::vector<uint32_t> cells_;
+  std::vector<uint32_t> cells_, chroma_cells_, intensity_hue_cells_;
   int nx_ = 0, ny_ = 0, nz_ = 0;
   Eigen::Vector3f origin_ = Eigen::Vector3f::Zero();
   float cell_m_ = 0;

@@ -73,12 +73,16 @@ StatusOr<std::unique_ptr<BoxScorer>> BoxScorer::Create(Context& context, const I
   s.detections_.assign(boxes.begin(), boxes.end());
   // ---- The colour term: the model's colour grid, when there is colour on both sides -------
   if (colour) s.colour_ = context.Colour(mesh);
-  if (s.colour_) s.colour_lookup_ = s.colour_->lookup();
+  if (s.colour_) s.colour_lookup_ = s.colour_->lookup(opt.appearance.space);
+  uint32_t (*transform)(uint32_t) = opt.appearance.space == AppearanceOptions::Space::kChroma ? score::ChromaOf
+                                    : opt.appearance.space == AppearanceOptions::Space::kIntensityHue
+                                        ? score::IntensityHueOf
+                                        : nullptr;
   // ---- Depth distributor: each box's observation, cut out once ---------------------------
   for (const Detection& d : boxes) {
     const render::PixelRect rect = ClipBox(d.x, d.y, d.w, d.h, K.width, K.height);
     s.observed_.push_back(score::DistributeBox(depth, K, rect, d.score, opt.weight.inlier, BoxStride(rect, opt.engine),
-                                               s.colour_ ? colour : nullptr));
+                                               s.colour_ ? colour : nullptr, transform));
   }
   // ---- Level of detail: per box, the coarsest mesh within the pixel error budget ----------
   s.lod_ = context.Lod(mesh);

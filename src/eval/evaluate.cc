@@ -131,6 +131,10 @@ StatusOr<EvalReport> Evaluate(const Dataset& dataset, const std::vector<PoseResu
         e.add_m = FiniteOrInfinity(Add(points->second, T_est, gt.T_cam_obj));
         e.adds_m = FiniteOrInfinity(AddS(points->second, T_est, gt.T_cam_obj));
         e.add_or_adds_m = options.symmetric_obj_ids.contains(gt.obj_id) ? e.adds_m : e.add_m;
+        const Eigen::Vector3d w = LogSO3(gt.T_cam_obj.R.transpose() * T_est.R);
+        e.rotation_error_deg = w.norm() * 180 / M_PI;
+        e.rotation_error_axis = w.norm() > 0 ? Eigen::Vector3d(w.normalized()) : Eigen::Vector3d::Zero();
+        e.translation_error_mm = 1000 * (T_est.t - gt.T_cam_obj.t).norm();
       }
       report.instances.push_back(e);
     }

@@ -109,7 +109,9 @@ StatusOr<Mesh> ParseObj(const std::string& path, const std::string& text,
       }
       std::array<uint32_t, 3> triangle;
       std::array<Eigen::Vector2f, 3> uv;
-      const bool textured = texture && m.material_ids[f] == textured_material;
+      // Texture coordinates of the textured material's faces, or of every face when there is
+      // no texture (appearance capture bakes into them).
+      const bool textured = texture ? m.material_ids[f] == textured_material : num_texcoords > 0;
       for (size_t k = 0; k < 3; ++k) {
         const int t = m.indices[offset + k].texcoord_index;
         uv[k] = textured && t >= 0 && static_cast<size_t>(t) < num_texcoords
@@ -124,7 +126,7 @@ StatusOr<Mesh> ParseObj(const std::string& path, const std::string& text,
         triangle[k] = static_cast<uint32_t>(index);
       }
       mesh.triangles.push_back(triangle);
-      if (texture) mesh.appearance.triangle_uv.push_back(uv);
+      if (texture || num_texcoords > 0) mesh.appearance.triangle_uv.push_back(uv);
       offset += corners;
     }
   }

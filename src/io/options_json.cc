@@ -29,7 +29,10 @@ nlohmann::json OptionsToJson(const EstimatorOptions& o) {
         {"anneal", d.anneal},
         {"flip_rate", d.flip_rate}}},
       {"appearance",
-       {{"enabled", o.appearance.enabled}, {"weight", o.appearance.weight}, {"min_pixels", o.appearance.min_pixels}}},
+       {{"enabled", o.appearance.enabled}, {"weight", o.appearance.weight}, {"min_pixels", o.appearance.min_pixels},
+        {"space", o.appearance.space == AppearanceOptions::Space::kRgb      ? "rgb"
+                   : o.appearance.space == AppearanceOptions::Space::kChroma ? "chroma"
+                                                                             : "intensity-hue"}}},
       {"engine",
        {{"backend", RasterBackendName(e.backend)},
         {"backface_culling", e.backface_culling},

@@ -372,14 +372,15 @@ Status WritePlyMesh(const std::string& path, const Mesh& mesh, double file_units
   MCPOSE_RETURN_IF_ERROR(mesh.Validate(path));
   const bool colour = mesh.appearance.has_vertex_colours();
   std::string out = "ply\nformat binary_little_endian 1.0\ncomment written by mcpose\nelement vertex " +
-                    std::to_string(mesh.vertices_m.size()) + "\nproperty float x\nproperty float y\nproperty float z\n";
+                    std::to_string(mesh.vertices_m.size()) + "\nproperty double x\nproperty double y\nproperty double z\n";
   if (colour) out += "property uchar red\nproperty uchar green\nproperty uchar blue\nproperty uchar alpha\n";
   out += "element face " + std::to_string(mesh.triangles.size()) +
          "\nproperty list uchar int vertex_indices\nend_header\n";
   auto put = [&out](const void* p, size_t n) { out.append(static_cast<const char*>(p), n); };
   for (size_t i = 0; i < mesh.vertices_m.size(); ++i) {
     for (int k = 0; k < 3; ++k) {
-      const float v = static_cast<float>(mesh.vertices_m[i][k] * file_units_per_metre);
+      // In double: reading divides by the same factor and rounds to the same float.
+      const double v = static_cast<double>(mesh.vertices_m[i][k]) * file_units_per_metre;
       put(&v, sizeof v);
     }
     if (colour) put(&mesh.appearance.vertex_colours[i], 4);

@@ -17,9 +17,9 @@ namespace mcpose::io {
 // rounded to float. Vertex and triangle order are those of the file.
 StatusOr<Mesh> ReadPlyMesh(const std::string& path, double file_units_per_metre = 1.0);
 
-// Writes `mesh` as binary little-endian PLY: x y z floats in file units (metres times
-// `file_units_per_metre`), uchar red green blue alpha when it has vertex colours, and the
-// triangles; atomically (temporary file and rename).
+// Writes `mesh` as binary little-endian PLY: x y z doubles in file units (metres times
+// `file_units_per_metre`: ReadPlyMesh gives the same vertices back), uchar red green blue alpha
+// when it has vertex colours, and the triangles; atomically (temporary file and rename).
 Status WritePlyMesh(const std::string& path, const Mesh& mesh, double file_units_per_metre = 1.0);
 
 }  // namespace mcpose::io

@@ -5,7 +5,8 @@
 namespace mcpose::score {
 
 BoxObservation DistributeBox(const DepthImage& depth, const Intrinsics& K, const render::PixelRect& rect,
-                             double score, InlierMode mode, int stride, const ColourImage* colour) {
+                             double score, InlierMode mode, int stride, const ColourImage* colour,
+                             uint32_t (*transform)(uint32_t)) {
   MCPOSE_CHECK_GE(stride, 1);
   BoxObservation b;
   b.image_rect = rect;
@@ -31,8 +32,8 @@ BoxObservation DistributeBox(const DepthImage& depth, const Intrinsics& K, const
     for (int j = 0; j < gh; ++j)
       for (int i = 0; i < gw; ++i) {
         const uint8_t* p = colour->at(rect.x0 + i * stride, rect.y0 + j * stride);
-        b.observed_rgba[static_cast<size_t>(j) * gw + i] =
-            uint32_t{p[0]} | (uint32_t{p[1]} << 8) | (uint32_t{p[2]} << 16) | (uint32_t{p[3]} << 24);
+        const uint32_t rgba = uint32_t{p[0]} | (uint32_t{p[1]} << 8) | (uint32_t{p[2]} << 16) | (uint32_t{p[3]} << 24);
+        b.observed_rgba[static_cast<size_t>(j) * gw + i] = transform ? transform(rgba) : rgba;
       }
   }
   b.n_observed = CountObserved(b.observed);

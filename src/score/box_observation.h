@@ -34,9 +34,11 @@ struct BoxObservation {
 };
 
 // The BoxObservation of `rect` (image pixels, inside the image) at pixel stride `stride` >= 1,
-// with the colour of `colour` (same size as `depth`) when it is given.
+// with the colour of `colour` (same size as `depth`) when it is given, each pixel passed
+// through `transform` (ChromaOf, IntensityHueOf) when that is given.
 BoxObservation DistributeBox(const DepthImage& depth, const Intrinsics& K, const render::PixelRect& rect,
-                             double score, InlierMode mode, int stride = 1, const ColourImage* colour = nullptr);
+                             double score, InlierMode mode, int stride = 1, const ColourImage* colour = nullptr,
+                             uint32_t (*transform)(uint32_t) = nullptr);
 
 // The raster-core parameters of a box: its grid projection and rect.
 render::RasterParams BoxRasterParams(const BoxObservation& box, bool cull_backfaces);

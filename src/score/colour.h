@@ -29,6 +29,29 @@ struct ColourLookup {
 
 inline constexpr uint32_t kKnownAlpha = 128;
 
+// Normalised colour of a packed RGBA8 pixel: each channel times 255 / (r + g + b), so that a
+// darker or brighter light on the same surface gives the same value; unknown (alpha 0) where
+// r + g + b < kMinChromaSum (too dark for its hue to mean anything) or alpha is below
+// kKnownAlpha.
+inline constexpr uint32_t kMinChromaSum = 30;
+// Intensity and hue of a packed RGBA8 pixel, as three channels: (r + g + b) / 3, and red and
+// green times 255 / (r + g + b) (grey, 85, where r + g + b < kMinChromaSum); alpha kept.
+inline uint32_t IntensityHueOf(uint32_t rgba) {
+  const uint32_t r = rgba & 0xff, g = (rgba >> 8) & 0xff, b = (rgba >> 16) & 0xff;
+  const uint32_t sum = r + g + b;
+  const uint32_t i = (sum + 1) / 3;
+  const uint32_t cr = sum < kMinChromaSum ? 85 : (255 * r + sum / 2) / sum;
+  const uint32_t cg = sum < kMinChromaSum ? 85 : (255 * g + sum / 2) / sum;
+  return i | (cr << 8) | (cg << 16) | (rgba & 0xff000000u);
+}
+inline uint32_t ChromaOf(uint32_t rgba) {
+  const uint32_t r = rgba & 0xff, g = (rgba >> 8) & 0xff, b = (rgba >> 16) & 0xff;
+  const uint32_t sum = r + g + b;
+  if ((rgba >> 24) < kKnownAlpha || sum < kMinChromaSum) return 0;
+  auto norm = [sum](uint32_t c) { return (255 * c + sum / 2) / sum; };
+  return norm(r) | (norm(g) << 8) | (norm(b) << 16) | (rgba & 0xff000000u);
+}
+
 // Sums over the pixels counted, per channel (red, green, blue): model m, observed o.
 struct ColourStats {
   int64_t n = 0;

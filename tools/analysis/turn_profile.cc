@@ -71,7 +71,8 @@ int DistinctAxis(const Mesh& mesh) {
   return axis;
 }
 
-StatusOr<TurnProfile> ProfileTurns(const Intrinsics& K, const DepthImage& depth, const Mesh& mesh,
+StatusOr<TurnProfile> ProfileTurns(const Intrinsics& K, const DepthImage& depth, const ColourImage* colour,
+                                   const Mesh& mesh,
                                    const Detection& box, const SE3& T_gt, const EstimatorOptions& options,
                                    const TurnProfileOptions& turn) {
   std::string error;
@@ -80,16 +81,17 @@ StatusOr<TurnProfile> ProfileTurns(const Intrinsics& K, const DepthImage& depth,
   // The estimator's scorer for this box: its engine, mesh level, stride and weight.
   engine::Context context(options);
   MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<engine::BoxScorer> scorer,
-                          engine::BoxScorer::Create(context, K, depth, mesh, std::span(&box, 1)));
+                          engine::BoxScorer::Create(context, K, depth, mesh, std::span(&box, 1), colour));
   TurnProfile out;
   out.axis = turn.axis >= 0 ? turn.axis : DistinctAxis(mesh);
   out.stride = scorer->box_observation(0).stride;
+  out.colour = scorer->uses_colour();
   out.triangles = static_cast<int>(scorer->box_mesh(0).triangles.size());
 
   const int n = static_cast<int>(std::lround(360.0 / turn.step_deg));
   const Eigen::Vector3d c = (0.5f * (mesh.BoundsMin() + mesh.BoundsMax())).cast<double>();
   filter::ParticleSet poses;
-  poses.Resize(static_cast<size_t>(n));
+  poses.Resize(static_cast<size_t>(n + 3));
   for (int k = 0; k < n; ++k) {
     const double a = k * turn.step_deg;
     const Eigen::Matrix3d S =
@@ -100,9 +102,18 @@ StatusOr<TurnProfile> ProfileTurns(const Intrinsics& K, const DepthImage& depth,
     poses.box[static_cast<size_t>(k)] = 0;
     out.angle_deg.push_back(a);
   }
+  for (int f = 0; f < 3; ++f) {  // the flips: diag(+-1), -1 off the axis
+    Eigen::Vector3d d(-1, -1, -1);
+    d[f] = 1;
+    const Eigen::Matrix3d F = d.asDiagonal();
+    poses.R_cam_obj[static_cast<size_t>(n + f)] = T_gt.R * F;
+    poses.t_cam_obj_m[static_cast<size_t>(n + f)] = T_gt.R * (c - F * c) + T_gt.t;
+    poses.box[static_cast<size_t>(n + f)] = 0;
+  }
   EngineCounters counters;
   scorer->Weigh(&poses, &counters);
-  out.weight = poses.weight;
+  out.weight.assign(poses.weight.begin(), poses.weight.begin() + n);
+  for (int f = 0; f < 3; ++f) out.flip_weight[f] = poses.weight[static_cast<size_t>(n + f)];
   out.stats = SummarizeTurnProfile(out.weight, turn.step_deg, turn.near_deg);
   return out;
 }

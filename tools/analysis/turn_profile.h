@@ -51,15 +51,19 @@ int DistinctAxis(const Mesh& mesh);
 
 struct TurnProfile {
   int axis = 0;
+  bool colour = false;       // the weight had its colour term
+  double flip_weight[3] = {0, 0, 0};  // the truth turned 180 degrees about model x, y, z
   int triangles = 0;  // of the mesh (LOD level) the box renders
   int stride = 1;     // the box's pixel stride
   std::vector<double> angle_deg, weight;
   TurnProfileStats stats;
 };
 
-// The profile of `T_gt` of `mesh` in `box` of the observed `depth`, scored as the estimator with
-// `options` scores (its threads, engine, level of detail, pixel stride, inlier test, weights).
-StatusOr<TurnProfile> ProfileTurns(const Intrinsics& K, const DepthImage& depth, const Mesh& mesh,
+// The profile of `T_gt` of `mesh` in `box` of the observed `depth` (and `colour`, may be null),
+// scored as the estimator with `options` scores (its threads, engine, level of detail, pixel
+// stride, inlier test, weights, colour term), and the weights of the truth's three flips.
+StatusOr<TurnProfile> ProfileTurns(const Intrinsics& K, const DepthImage& depth, const ColourImage* colour,
+                                   const Mesh& mesh,
                                    const Detection& box, const SE3& T_gt, const EstimatorOptions& options,
                                    const TurnProfileOptions& turn);
 

@@ -111,7 +111,7 @@ TEST(TurnProfile, CuboidHalfTurnScoresAsTheTruthAndAQuarterTurnLower) {
   for (int axis = 0; axis < 3; ++axis) {
     TurnProfileOptions turn;
     turn.step_deg = 10, turn.axis = axis;
-    auto p = ProfileTurns(s.K, s.depth, s.mesh, s.box, s.T_gt, Reference(), turn);
+    auto p = ProfileTurns(s.K, s.depth, nullptr, s.mesh, s.box, s.T_gt, Reference(), turn);
     ASSERT_TRUE(p.ok()) << p.status().ToString();
     ASSERT_EQ(p->weight.size(), 36u);
     EXPECT_EQ(p->axis, axis);
@@ -134,13 +134,13 @@ TEST(TurnProfile, TheDefaultsScoreAtTheirStride) {
   const Scene s = Cuboid();
   EstimatorOptions o;  // stride 2, LOD on (the 12-triangle cuboid has no coarser level)
   o.engine.threads = 1;
-  auto p = ProfileTurns(s.K, s.depth, s.mesh, s.box, s.T_gt, o, TurnProfileOptions{});
+  auto p = ProfileTurns(s.K, s.depth, nullptr, s.mesh, s.box, s.T_gt, o, TurnProfileOptions{});
   ASSERT_TRUE(p.ok()) << p.status().ToString();
   EXPECT_EQ(p->stride, 2) << s.box.w << "x" << s.box.h;
   EXPECT_EQ(p->weight.size(), 72u);
   EXPECT_EQ(p->triangles, 12);
   o.engine.threads = 2;  // the raster cores give the same counts at any thread count
-  auto q = ProfileTurns(s.K, s.depth, s.mesh, s.box, s.T_gt, o, TurnProfileOptions{});
+  auto q = ProfileTurns(s.K, s.depth, nullptr, s.mesh, s.box, s.T_gt, o, TurnProfileOptions{});
   ASSERT_TRUE(q.ok());
   EXPECT_EQ(p->weight, q->weight);
 }
@@ -149,15 +149,15 @@ TEST(TurnProfile, BadInputIsNamed) {
   const Scene s = Cuboid();
   Detection outside = s.box;
   outside.x = 5000;
-  auto p = ProfileTurns(s.K, s.depth, s.mesh, outside, s.T_gt, Reference(), TurnProfileOptions{});
+  auto p = ProfileTurns(s.K, s.depth, nullptr, s.mesh, outside, s.T_gt, Reference(), TurnProfileOptions{});
   ASSERT_FALSE(p.ok());
   EXPECT_NE(p.status().message().find("outside the"), std::string::npos);
   TurnProfileOptions bad;
   bad.step_deg = 0;
-  p = ProfileTurns(s.K, s.depth, s.mesh, s.box, s.T_gt, Reference(), bad);
+  p = ProfileTurns(s.K, s.depth, nullptr, s.mesh, s.box, s.T_gt, Reference(), bad);
   ASSERT_FALSE(p.ok());
   EXPECT_NE(p.status().message().find("step_deg"), std::string::npos);
-  p = ProfileTurns(s.K, s.depth, Mesh{}, s.box, s.T_gt, Reference(), TurnProfileOptions{});
+  p = ProfileTurns(s.K, s.depth, nullptr, Mesh{}, s.box, s.T_gt, Reference(), TurnProfileOptions{});
   EXPECT_FALSE(p.ok());
 }
 
