@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "analysis/turn_profile.h"
+#include "engine/twins.h"
 #include "cli/common.h"
 #include "tools.h"
 #include "mcpose/dataset.h"
@@ -50,7 +51,7 @@ Status RunTurnProfile(TurnProfileArgs& a) {
   if (boxes.empty())
     return InvalidArgument(a.detections + ": no box of obj_id " + std::to_string(a.obj_id));
 
-  const int axis = a.turn.axis >= 0 ? a.turn.axis : analysis::DistinctAxis(mesh);
+  const int axis = a.turn.axis >= 0 ? a.turn.axis : engine::DistinctAxis(mesh);
   std::printf("turn profile of %s about model axis %c, %g deg steps, the truth within %g deg; engine %s, "
               "LOD %.2f px, pixel stride %d\n",
               dataset->ObjectName(a.obj_id).c_str(), "xyz"[axis], a.turn.step_deg, a.turn.near_deg,

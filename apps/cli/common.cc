@@ -63,6 +63,14 @@ void AddEstimatorFlags(CLI::App* cmd, unsigned groups, EstimatorFlags* f) {
                     "What the colour term compares: intensity-hue (intensity and normalised colour), chroma (normalised "
                     "colour, which shading does not change) or rgb")
         ->capture_default_str();
+    cmd->add_flag("--resolve-twins,!--no-resolve-twins", o.appearance.resolve_twins,
+                  "After the filter, score the best pose's depth twins on every pixel with colour and refine the best "
+                  "(default on)");
+    cmd->add_option("--twin-step", o.appearance.twin_step_deg,
+                    "Twin candidates: turns about the model's most distinct axis in these steps, degrees")
+        ->capture_default_str();
+    cmd->add_option("--twin-refine", o.appearance.twin_refine_iterations,
+                    "Iterations of the filter that refine the chosen twin")->capture_default_str();
     cmd->add_option("--colour-min-pixels", o.appearance.min_pixels,
                     "Fewer depth inliers of known colour than this: the neutral A = 0.5")->capture_default_str();
   }

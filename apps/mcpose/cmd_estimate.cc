@@ -55,6 +55,9 @@ nlohmann::json ObjectJson(const ObjectRecord& r) {
       {"box_triangles", e.box_triangles},
       {"depth_pixels_read", e.depth_pixels_read},
       {"colour", e.colour},
+      {"twins", {{"ran", e.twins.ran}, {"candidates", e.twins.candidates}, {"winner", e.twins.winner},
+                 {"winner_weight", e.twins.winner_weight}, {"margin", e.twins.margin},
+                 {"refine_iterations", e.twins.refine_iterations}, {"ms", e.twins.ms}}},
       {"counters", io::CountersToJson(e.Totals())},
   };
 }

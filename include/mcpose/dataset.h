@@ -63,9 +63,10 @@ class Dataset {
   // Depth (metres), intrinsics and ground truth of one frame. Validates the depth PNG
   // (16-bit, one channel, size matching the intrinsics) and the intrinsics.
   virtual StatusOr<Frame> LoadFrame(const FrameKey& key) const = 0;
-  // The colour image of a loaded frame as RGBA (YCB-Video `-color.png`, BOP `rgb/` PNG or
-  // JPEG). Errors name the file: missing, truncated, not 8-bit, or of another size than the
-  // frame's depth image.
+  // The colour image of a loaded frame as RGBA, alpha 255 everywhere (YCB-Video `-color.png`,
+  // whose synthetic frames carry an unrelated alpha channel; BOP `rgb/` PNG or JPEG). Errors
+  // name the file: missing, truncated, not 8-bit, or of another size than the frame's depth
+  // image.
   virtual StatusOr<ColourImage> LoadColour(const Frame& frame) const = 0;
   // "0049/000001" (YCB-Video; "data_syn/000001" for a synthetic frame) or "000049/000001"
   // (BOP): the name a frame list gives it, and back. ParseFrameName accepts the numbers with

@@ -46,6 +46,17 @@ struct IterationSummary {
   EngineCounters counters;  // this iteration's
 };
 
+// Twin resolution's record (AppearanceOptions::resolve_twins).
+struct TwinRecord {
+  bool ran = false;
+  int candidates = 0;        // poses scored at full resolution
+  int winner = 0;            // the one kept; 0 = the filter's own answer
+  double winner_weight = 0;  // its full-resolution weight
+  double margin = 0;         // its weight minus the best other candidate's
+  int refine_iterations = 0;
+  double ms = 0;             // wall time of scoring and refinement
+};
+
 struct ObjectEstimate {
   int obj_id = 0;
   SE3 T_cam_obj;          // the best-weighted sample ever seen
@@ -55,6 +66,7 @@ struct ObjectEstimate {
   std::vector<int> box_triangles;  // triangles of the mesh (LOD level) each box renders
   int64_t depth_pixels_read = 0;   // observed depth pixels the depth distributor cut out
   bool colour = false;             // whether the weight had its colour term
+  TwinRecord twins;
 
   double final_mean_weight() const { return iterations.empty() ? 0 : iterations.back().mean_weight; }
   EngineCounters Totals() const;  // the counters summed over the iterations

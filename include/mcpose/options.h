@@ -130,6 +130,14 @@ struct AppearanceOptions {
   // kIntensityHue the intensity and two channels of the normalised colour.
   enum class Space { kRgb, kChroma, kIntensityHue };
   Space space = Space::kIntensityHue;
+  // Twin resolution, after the filter, for objects scored with colour: the best pose and its
+  // depth twins (180-degree turns about the model axes through its bounding-box centre, each
+  // also turned about the model's most distinct axis in steps of twin_step_deg) scored on every
+  // pixel of the full mesh; the best one is refined by twin_refine_iterations of the filter at
+  // the smallest diffusion.
+  bool resolve_twins = true;
+  double twin_step_deg = 30;     // divides 360; 180 = the flips alone
+  int twin_refine_iterations = 10;
 };
 
 struct EstimatorOptions {

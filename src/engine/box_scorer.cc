@@ -43,7 +43,7 @@ int BoxStride(const render::PixelRect& rect, const EngineOptions& options) {
 StatusOr<std::unique_ptr<BoxScorer>> BoxScorer::Create(Context& context, const Intrinsics& K,
                                                        const DepthImage& depth, const Mesh& mesh,
                                                        std::span<const Detection> boxes,
-                                                       const ColourImage* colour) {
+                                                       const ColourImage* colour, Resolution resolution) {
   const EstimatorOptions& opt = context.options();
   // ---- Validate the inputs at the boundary ---------------------------------------------
   std::string error;
@@ -81,11 +81,12 @@ StatusOr<std::unique_ptr<BoxScorer>> BoxScorer::Create(Context& context, const I
   // ---- Depth distributor: each box's observation, cut out once ---------------------------
   for (const Detection& d : boxes) {
     const render::PixelRect rect = ClipBox(d.x, d.y, d.w, d.h, K.width, K.height);
-    s.observed_.push_back(score::DistributeBox(depth, K, rect, d.score, opt.weight.inlier, BoxStride(rect, opt.engine),
+    const int stride = resolution == Resolution::kFull ? 1 : BoxStride(rect, opt.engine);
+    s.observed_.push_back(score::DistributeBox(depth, K, rect, d.score, opt.weight.inlier, stride,
                                                s.colour_ ? colour : nullptr, transform));
   }
   // ---- Level of detail: per box, the coarsest mesh within the pixel error budget ----------
-  s.lod_ = context.Lod(mesh);
+  if (resolution == Resolution::kEngine) s.lod_ = context.Lod(mesh);
   for (size_t b = 0; b < boxes.size(); ++b) {
     backends::BoxTarget target{&s.observed_[b], &mesh, nullptr, s.colour_ ? &s.colour_lookup_ : nullptr};
     const render::LodLevel* level = nullptr;

@@ -34,15 +34,21 @@ Status CheckBox(const Detection& d, const Intrinsics& K);
 // at most options.max_grid_pixels pixels (when that is > 0).
 int BoxStride(const render::PixelRect& rect, const EngineOptions& options);
 
+// How finely a scorer renders: as the engine options say, or every pixel of the full mesh.
+enum class Resolution { kEngine, kFull };
+
 class BoxScorer {
  public:
   // Checks the inputs (intrinsics, depth and colour sizes, mesh, boxes: all of one class, each
   // per CheckBox) and prepares every box. The colour term is used when `colour` is given, the
-  // mesh has colour and the options allow it. Errors name the box.
+  // mesh has colour and the options allow it. kFull renders every pixel of every box with the
+  // full mesh (on the same raster cores), for a few poses that must be told apart finely.
+  // Errors name the box.
   static StatusOr<std::unique_ptr<BoxScorer>> Create(Context& context, const Intrinsics& K,
                                                      const DepthImage& depth, const Mesh& mesh,
                                                      std::span<const Detection> boxes,
-                                                     const ColourImage* colour = nullptr);
+                                                     const ColourImage* colour = nullptr,
+                                                     Resolution resolution = Resolution::kEngine);
   BoxScorer(const BoxScorer&) = delete;
   BoxScorer& operator=(const BoxScorer&) = delete;
 

@@ -3,6 +3,7 @@
 #include "engine/box_scorer.h"
 #include "engine/context.h"
 #include "engine/filter_loop.h"
+#include "engine/twins.h"
 
 namespace mcpose {
 
@@ -53,7 +54,9 @@ StatusOr<ObjectEstimate> Estimator::Estimate(const Intrinsics& K, const DepthIma
                                              uint64_t stream_id) {
   MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<engine::BoxScorer> scorer,
                           engine::BoxScorer::Create(*context_, K, depth, mesh, boxes, colour));
-  return engine::RunFilter(*scorer, context_->options(), context_->pool(), stream_id);
+  ObjectEstimate estimate = engine::RunFilter(*scorer, context_->options(), context_->pool(), stream_id);
+  if (!scorer->uses_colour() || !context_->options().appearance.resolve_twins) return estimate;
+  return engine::ResolveTwins(*context_, *scorer, depth, *colour, std::move(estimate), stream_id);
 }
 
 }  // namespace mcpose

@@ -20,7 +20,7 @@ double MsSince(Clock::time_point t0) { return std::chrono::duration<double, std:
 }  // namespace
 
 ObjectEstimate RunFilter(BoxScorer& scorer, const EstimatorOptions& opt, ThreadPool& pool, uint64_t stream_id,
-                         const IterationObserver& observer) {
+                         const IterationObserver& observer, const filter::ParticleSet* start) {
   ObjectEstimate result;
   result.obj_id = scorer.obj_id();
   result.best_weight = -1;
@@ -35,7 +35,11 @@ ObjectEstimate RunFilter(BoxScorer& scorer, const EstimatorOptions& opt, ThreadP
 
   // 1. Initialize: samples over the boxes in proportion to score.
   filter::ParticleSet particles[2];
-  InitializeSamples(scorer, opt, stream_id, &particles[0]);
+  if (start) {
+    particles[0] = *start;
+  } else {
+    InitializeSamples(scorer, opt, stream_id, &particles[0]);
+  }
   filter::CdfSampler sampler;
   for (int iter = 0, cur = 0; iter < opt.max_iterations; ++iter, cur = 1 - cur) {
     filter::ParticleSet& p = particles[cur];

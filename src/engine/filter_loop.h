@@ -15,10 +15,11 @@ namespace mcpose::engine {
 // (`mcpose bench` reads them to compare resamplers); may be empty.
 using IterationObserver = std::function<void(int iteration, const filter::ParticleSet& weighted)>;
 
-// Initialize, then score, weigh, resample and diffuse until the mean weight exceeds tau or
-// max_iterations; the answer is the best-weighted sample ever seen. Depends on
-// (options.seed, stream_id) only, never on the thread count.
+// Initialize (or start from `start`, samples with their boxes), then score, weigh, resample
+// and diffuse until the mean weight exceeds tau or max_iterations; the answer is the
+// best-weighted sample ever seen. Depends on (options.seed, stream_id) only, never on the
+// thread count.
 ObjectEstimate RunFilter(BoxScorer& scorer, const EstimatorOptions& options, ThreadPool& pool, uint64_t stream_id,
-                         const IterationObserver& observer = {});
+                         const IterationObserver& observer = {}, const filter::ParticleSet* start = nullptr);
 
 }  // namespace mcpose::engine

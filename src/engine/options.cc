@@ -67,6 +67,13 @@ bool EstimatorOptions::IsValid(std::string* error) const {
 
   if (!(appearance.weight >= 0 && appearance.weight < 1)) return Fail(error, "appearance.weight must lie in [0, 1)");
   if (appearance.min_pixels < 2) return Fail(error, "appearance.min_pixels must be >= 2");
+  {
+    const double steps = 360.0 / appearance.twin_step_deg;
+    if (!(appearance.twin_step_deg >= 1 && appearance.twin_step_deg <= 180) ||
+        std::fabs(steps - std::round(steps)) > 1e-9)
+      return Fail(error, "appearance.twin_step_deg must divide 360 and lie in [1, 180]");
+  }
+  if (appearance.twin_refine_iterations < 0) return Fail(error, "appearance.twin_refine_iterations must be >= 0");
 
   if (!finite_nonnegative(engine.lod_error_px))
     return Fail(error, "engine.lod_error_px must be finite and >= 0 (0 = full mesh)");

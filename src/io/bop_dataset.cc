@@ -240,6 +240,7 @@ class BopDataset final : public Dataset {
       return InvalidArgument(path + ": colour image is " + std::to_string(colour.width) + "x" +
                              std::to_string(colour.height) + " but the depth image " + frame.depth_path + " is " +
                              std::to_string(frame.depth.width) + "x" + std::to_string(frame.depth.height));
+    for (size_t i = 3; i < colour.rgba.size(); i += 4) colour.rgba[i] = 255;  // a frame's alpha means nothing here
     return colour;
   }
 

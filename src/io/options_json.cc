@@ -32,7 +32,10 @@ nlohmann::json OptionsToJson(const EstimatorOptions& o) {
        {{"enabled", o.appearance.enabled}, {"weight", o.appearance.weight}, {"min_pixels", o.appearance.min_pixels},
         {"space", o.appearance.space == AppearanceOptions::Space::kRgb      ? "rgb"
                    : o.appearance.space == AppearanceOptions::Space::kChroma ? "chroma"
-                                                                             : "intensity-hue"}}},
+                                                                             : "intensity-hue"},
+        {"resolve_twins", o.appearance.resolve_twins},
+        {"twin_step_deg", o.appearance.twin_step_deg},
+        {"twin_refine_iterations", o.appearance.twin_refine_iterations}}},
       {"engine",
        {{"backend", RasterBackendName(e.backend)},
         {"backface_culling", e.backface_culling},

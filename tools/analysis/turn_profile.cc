@@ -9,6 +9,7 @@
 
 #include "engine/box_scorer.h"
 #include "engine/context.h"
+#include "engine/twins.h"
 
 namespace mcpose::analysis {
 
@@ -60,17 +61,6 @@ TurnProfileStats SummarizeTurnProfile(std::span<const double> w, double step_deg
   return s;
 }
 
-int DistinctAxis(const Mesh& mesh) {
-  const Eigen::Vector3f e = mesh.BoundsMax() - mesh.BoundsMin();
-  int axis = 0;
-  double best = -1;
-  for (int a = 0; a < 3; ++a) {
-    const double off = std::fabs(e[a] - 0.5 * (e[(a + 1) % 3] + e[(a + 2) % 3]));
-    if (off > best) best = off, axis = a;
-  }
-  return axis;
-}
-
 StatusOr<TurnProfile> ProfileTurns(const Intrinsics& K, const DepthImage& depth, const ColourImage* colour,
                                    const Mesh& mesh,
                                    const Detection& box, const SE3& T_gt, const EstimatorOptions& options,
@@ -83,7 +73,7 @@ StatusOr<TurnProfile> ProfileTurns(const Intrinsics& K, const DepthImage& depth,
   MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<engine::BoxScorer> scorer,
                           engine::BoxScorer::Create(context, K, depth, mesh, std::span(&box, 1), colour));
   TurnProfile out;
-  out.axis = turn.axis >= 0 ? turn.axis : DistinctAxis(mesh);
+  out.axis = turn.axis >= 0 ? turn.axis : engine::DistinctAxis(mesh);
   out.stride = scorer->box_observation(0).stride;
   out.colour = scorer->uses_colour();
   out.triangles = static_cast<int>(scorer->box_mesh(0).triangles.size());

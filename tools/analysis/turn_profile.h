@@ -46,8 +46,6 @@ struct TurnProfileStats {
 // The statistics of a profile of weights at turns 0, step, 2 step, ... (circular).
 TurnProfileStats SummarizeTurnProfile(std::span<const double> weights, double step_deg, double near_deg);
 
-// The model axis of TurnProfileOptions::axis = -1 for `mesh`.
-int DistinctAxis(const Mesh& mesh);
 
 struct TurnProfile {
   int axis = 0;

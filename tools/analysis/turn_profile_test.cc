@@ -55,14 +55,6 @@ TEST(TurnProfile, OptionsAreChecked) {
   EXPECT_FALSE(o.IsValid(&error));
 }
 
-TEST(TurnProfile, DistinctAxisIsACansAxis) {
-  Mesh can_like, flat;
-  testing::AddBox(&can_like, {-0.05f, -0.05f, -0.07f}, {0.05f, 0.05f, 0.07f});
-  EXPECT_EQ(DistinctAxis(can_like), 2);
-  testing::AddBox(&flat, {-0.05f, -0.01f, -0.05f}, {0.05f, 0.01f, 0.05f});
-  EXPECT_EQ(DistinctAxis(flat), 1);
-}
-
 constexpr int kW = 320, kH = 240;
 
 struct Scene {

@@ -1,0 +1,122 @@
+#include "engine/twins.h"
+
+#include <chrono>
+#include <cmath>
+#include <numbers>
+
+#include <Eigen/Geometry>
+
+#include "core/rng.h"
+#include "filter/diffuse.h"
+#include "engine/filter_loop.h"
+
+namespace mcpose::engine {
+
+namespace {
+
+// Substream of the refinement's starting samples.
+constexpr uint64_t kTwinStream = 0x7715;
+
+}  // namespace
+
+int DistinctAxis(const Mesh& mesh) {
+  const Eigen::Vector3f e = mesh.BoundsMax() - mesh.BoundsMin();
+  int axis = 0;
+  double best = -1;
+  for (int a = 0; a < 3; ++a) {
+    const double off = std::fabs(e[a] - 0.5 * (e[(a + 1) % 3] + e[(a + 2) % 3]));
+    if (off > best) best = off, axis = a;
+  }
+  return axis;
+}
+
+std::vector<SE3> TwinCandidates(const SE3& T, const Mesh& mesh, double step_deg) {
+  const Eigen::Vector3d c = (0.5f * (mesh.BoundsMin() + mesh.BoundsMax())).cast<double>();
+  const int axis = DistinctAxis(mesh);
+  const int steps = static_cast<int>(std::lround(360.0 / step_deg));
+  std::vector<SE3> out;
+  for (int f = -1; f < 3; ++f) {
+    Eigen::Vector3d d(1, 1, 1);
+    if (f >= 0) d = Eigen::Vector3d(-1, -1, -1), d[f] = 1;
+    const Eigen::Matrix3d F = d.asDiagonal();
+    for (int k = 0; k < steps; ++k) {
+      const Eigen::Matrix3d S =
+          Eigen::AngleAxisd(k * step_deg * std::numbers::pi / 180, Eigen::Vector3d::Unit(axis)).toRotationMatrix();
+      // X -> S F (X - c) + c in the model frame, then T.
+      const Eigen::Matrix3d M = S * F;
+      out.emplace_back(T.R * M, T.R * (c - M * c) + T.t);
+    }
+  }
+  return out;
+}
+
+StatusOr<ObjectEstimate> ResolveTwins(Context& context, BoxScorer& scorer, const DepthImage& depth,
+                                      const ColourImage& colour, ObjectEstimate filtered, uint64_t stream_id) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  const EstimatorOptions& opt = context.options();
+  const AppearanceOptions& a = opt.appearance;
+  const int box = filtered.best_box;
+
+  // ---- Score every candidate on every pixel of the full mesh, in the chosen box ------------
+  const Detection chosen = scorer.detection(box);
+  MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<BoxScorer> full,
+                          BoxScorer::Create(context, scorer.K(), depth, scorer.mesh(), std::span(&chosen, 1), &colour,
+                                            Resolution::kFull));
+  const std::vector<SE3> candidates = TwinCandidates(filtered.T_cam_obj, scorer.mesh(), a.twin_step_deg);
+  filter::ParticleSet poses;
+  poses.Resize(candidates.size());
+  for (size_t i = 0; i < candidates.size(); ++i) {
+    poses.R_cam_obj[i] = candidates[i].R, poses.t_cam_obj_m[i] = candidates[i].t, poses.box[i] = 0;
+  }
+  EngineCounters counters;
+  full->Weigh(&poses, &counters);
+  size_t winner = 0;
+  for (size_t i = 1; i < poses.size(); ++i)
+    if (poses.weight[i] > poses.weight[winner]) winner = i;  // ties: the earlier candidate
+  double runner_up = -1;
+  for (size_t i = 0; i < poses.size(); ++i)
+    if (i != winner) runner_up = std::max(runner_up, poses.weight[i]);
+
+  TwinRecord record;
+  record.ran = true;
+  record.candidates = static_cast<int>(candidates.size());
+  record.winner = static_cast<int>(winner);
+  record.winner_weight = poses.weight[winner];
+  record.margin = poses.weight[winner] - runner_up;
+
+  // ---- Refine the winner: a short filter run from samples around it at the finest noise ----
+  ObjectEstimate result = std::move(filtered);
+  if (a.twin_refine_iterations > 0) {
+    EstimatorOptions refine = opt;
+    refine.max_iterations = a.twin_refine_iterations;
+    refine.diffusion.sigma_t_m = opt.diffusion.sigma_t_min_m;
+    refine.diffusion.sigma_r_rad = opt.diffusion.sigma_r_min_rad;
+    refine.diffusion.flip_rate = 0;
+    filter::ParticleSet start;
+    start.Resize(static_cast<size_t>(opt.samples));
+    for (int i = 0; i < opt.samples; ++i) {
+      Rng rng(opt.seed, stream_id, kTwinStream, static_cast<uint64_t>(i));
+      start.box[i] = box;
+      if (i == 0) {  // the winner itself is one of the samples
+        start.R_cam_obj[i] = candidates[winner].R, start.t_cam_obj_m[i] = candidates[winner].t;
+        continue;
+      }
+      filter::Diffuse(candidates[winner].R, candidates[winner].t, refine.diffusion.sigma_r_rad,
+                      refine.diffusion.sigma_t_m, rng, &start.R_cam_obj[i], &start.t_cam_obj_m[i]);
+    }
+    const ObjectEstimate refined =
+        RunFilter(scorer, refine, context.pool(), HashCombine(stream_id, kTwinStream), {}, &start);
+    result.T_cam_obj = refined.T_cam_obj;
+    result.best_weight = refined.best_weight;
+    record.refine_iterations = static_cast<int>(refined.iterations.size());
+    for (const IterationSummary& it : refined.iterations) result.iterations.push_back(it);
+  } else {
+    result.T_cam_obj = candidates[winner];
+  }
+  record.ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  result.twins = record;
+  return result;
+}
+
+}  // namespace mcpose::engine
