@@ -5,6 +5,7 @@
 # with colour of their own keep it (CAPTURE_OPTIONS=--replace-own-colour captures them too). No
 # object's appearance comes from the video it is evaluated on; an object no other frame shows
 # keeps depth only. The videos' results are merged into one results CSV (and one detail JSON).
+# LOO_SYNTHETIC=0 leaves the synthetic frames out of the capture.
 # Usage: scripts/estimate_loo.sh DATASET DETECTIONS OUT_CSV [--out-json FILE] [mcpose estimate options]
 # Captured models go to out/appearance/not_VVVV/. Needs build/mcpose (scripts/build.sh).
 set -euo pipefail
@@ -29,7 +30,7 @@ for v in $videos; do
     [ "$w" = "$v" ] && continue
     for f in "$DATASET/data/$w"/*-meta.mat; do b=$(basename "$f" -meta.mat); echo "$w/$b" >> "$list"; done
   done
-  if [ -d "$DATASET/data_syn" ]; then
+  if [ -d "$DATASET/data_syn" ] && [ "${LOO_SYNTHETIC:-1}" != 0 ]; then
     for f in "$DATASET/data_syn"/*-meta.mat; do echo "data_syn/$(basename "$f" -meta.mat)" >> "$list"; done
   fi
   rm -rf "$work/not_$v"

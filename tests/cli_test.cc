@@ -17,6 +17,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "io/ply_io.h"
 #include "io/png_io.h"
 #include "mcpose/results.h"
 #include "mcpose/options.h"
@@ -132,6 +133,20 @@ std::string PatchSceneCamera(const fs::path& bop, double fx) {
   return p.string();
 }
 
+// Colour for the sugar box (obj 3) of the BOP copy, so that its colour frames are read: a
+// vertex-coloured model and the frames' rgb/ folder (linked).
+void AddColour(const fs::path& bop) {
+  const fs::path model = bop / "models/obj_000003.ply";
+  auto mesh = io::ReadPlyMesh(model.string(), 1000.0);
+  ASSERT_TRUE(mesh.ok()) << mesh.status().ToString();
+  for (size_t i = 0; i < mesh->vertices_m.size(); ++i) mesh->appearance.vertex_colours.push_back({200, 180, 40, 255});
+  fs::remove(model);
+  ASSERT_TRUE(io::WritePlyMesh(model.string(), *mesh, 1000.0).ok());
+  fs::create_directories(bop / "test/000049/rgb");
+  for (const auto& e : fs::directory_iterator(fs::path(testing::BopDir()) / "test/000049/rgb"))
+    fs::create_symlink(e.path(), bop / "test/000049/rgb" / e.path().filename());
+}
+
 const BadCase kBadCases[] = {
     {"missing_dataset", [](const fs::path& bop, nlohmann::json&) { fs::remove_all(bop); return bop.string(); }, ""},
     {"missing_detections", [](const fs::path& bop, nlohmann::json&) {
@@ -177,6 +192,27 @@ const BadCase kBadCases[] = {
        return p.string(); }, ""},
     {"invalid_option", [](const fs::path&, nlohmann::json&) { return std::string("samples"); }, "--samples 0"},
     {"invalid_flip_rate", [](const fs::path&, nlohmann::json&) { return std::string("flip_rate"); }, "--flip-rate 1.5"},
+    {"colour_frame_of_another_size", [](const fs::path& bop, nlohmann::json&) {
+       AddColour(bop);
+       const fs::path p = bop / "test/000049/rgb/000001.png";
+       fs::remove(p);
+       ColourImage small;
+       small.width = 320, small.height = 240;
+       small.rgba.assign(4 * 320 * 240, 90);
+       EXPECT_TRUE(io::WriteColourPng(p.string(), small).ok());
+       return p.string(); }, ""},
+    {"truncated_colour_frame", [](const fs::path& bop, nlohmann::json&) {
+       AddColour(bop);
+       const fs::path p = bop / "test/000049/rgb/000001.png";
+       const std::string bytes = ReadText(fs::read_symlink(p));
+       Replace(p, bytes.substr(0, bytes.size() / 2));
+       return p.string(); }, ""},
+    {"missing_colour_frame", [](const fs::path& bop, nlohmann::json&) {
+       AddColour(bop);
+       const fs::path p = bop / "test/000049/rgb/000001.png";
+       fs::remove(p);
+       return p.string(); }, ""},
+    {"invalid_appearance", [](const fs::path&, nlohmann::json&) { return std::string("--appearance"); }, "--appearance maybe"},
 };
 
 INSTANTIATE_TEST_SUITE_P(Cases, CliBadInput, ::testing::ValuesIn(kBadCases),
@@ -547,6 +583,91 @@ TEST(Cli, EngineFeaturesFollowTheEngineAndAreRejectedWhereMeaningless) {
     EXPECT_NE(r.err.find(field), std::string::npos) << args << ": " << r.err;
     EXPECT_FALSE(fs::exists(dir / "r.csv")) << args;
   }
+}
+
+}  // namespace
+}  // namespace mcpose
+
+namespace mcpose {
+namespace {
+
+// The 0001/000001 detections: the cracker box (a model with its own texture) and the sugar box.
+nlohmann::json Scene1Detections() {
+  return nlohmann::json::parse(R"([
+    {"scene_id": 1, "image_id": 1, "category_id": 2, "score": 0.9, "bbox": [326, 129, 166, 235]},
+    {"scene_id": 1, "image_id": 1, "category_id": 3, "score": 0.8, "bbox": [235, 241, 120, 239]}
+  ])");
+}
+
+// --appearance off gives what an estimator without colour gives: the same rows as a run, colour
+// on, on models that have no colour at all.
+TEST(CliColour, AppearanceOffIsDepthOnlyExactly) {
+  const fs::path dir = testing::TempDir("appearance_off");
+  WriteText(dir / "dets.json", Scene1Detections().dump());
+  const fs::path plain = dir / "plain";
+  fs::create_directories(plain);
+  for (const char* name : {"003_cracker_box", "004_sugar_box"}) {
+    fs::create_directories(plain / name);
+    fs::copy_file(fs::path(testing::YcbvDir()) / "models" / name / "textured_simple.obj", plain / name / "textured_simple.obj");
+  }
+  const std::string base = "estimate --dataset " + testing::YcbvDir() + " --detections " + (dir / "dets.json").string() +
+                           " --iterations 6 --seed 3 -q";
+  const CliResult off = RunCli(base + " --appearance off --out " + (dir / "off.csv").string(), dir);
+  ASSERT_EQ(off.exit_code, 0) << off.err;
+  const CliResult none = RunCli(base + " --models " + plain.string() + " --out " + (dir / "none.csv").string(), dir);
+  ASSERT_EQ(none.exit_code, 0) << none.err;
+  const CliResult on = RunCli(base + " --out " + (dir / "on.csv").string() + " --out-json " + (dir / "on.json").string(), dir);
+  ASSERT_EQ(on.exit_code, 0) << on.err;
+  auto a = ReadResultsCsv((dir / "off.csv").string()), b = ReadResultsCsv((dir / "none.csv").string()),
+       c = ReadResultsCsv((dir / "on.csv").string());
+  ASSERT_TRUE(a.ok() && b.ok() && c.ok());
+  ASSERT_EQ(a->size(), 2u);
+  for (size_t i = 0; i < a->size(); ++i) {
+    EXPECT_EQ((*a)[i].T_cam_obj.R, (*b)[i].T_cam_obj.R) << i;
+    EXPECT_EQ((*a)[i].T_cam_obj.t, (*b)[i].T_cam_obj.t) << i;
+    EXPECT_EQ((*a)[i].score, (*b)[i].score) << i;
+  }
+  // With colour on, the cracker box (its own texture) is weighed with colour and its twins
+  // resolved; the sugar box (no colour) is not.
+  const nlohmann::json doc = nlohmann::json::parse(ReadText(dir / "on.json"));
+  EXPECT_TRUE(doc["objects"][0]["colour"].get<bool>());
+  EXPECT_TRUE(doc["objects"][0]["twins"]["ran"].get<bool>());
+  EXPECT_EQ(doc["objects"][0]["twins"]["candidates"].get<int>(), 48);
+  EXPECT_FALSE(doc["objects"][1]["colour"].get<bool>());
+  EXPECT_FALSE(doc["objects"][1]["twins"]["ran"].get<bool>());
+  EXPECT_TRUE(doc["objects"][1]["refine"]["ran"].get<bool>());
+  EXPECT_NE((*a)[0].T_cam_obj.t, (*c)[0].T_cam_obj.t);
+}
+
+// capture-appearance on two frames of video 49 writes a models folder whose captured models
+// carry a texture; estimate --models uses it; a bad frame list is one error naming its line.
+TEST(CliColour, CaptureWritesAModelsFolderThatEstimateUses) {
+  const fs::path dir = testing::TempDir("capture_cli");
+  WriteText(dir / "frames.txt", "# two frames\n0049/000001\n\n0049/000002\n");
+  const CliResult r = RunCli("capture-appearance --dataset " + testing::YcbvDir() + " --frames " +
+                                 (dir / "frames.txt").string() + " --out " + (dir / "models").string(),
+                             dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("004_sugar_box            captured"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("003_cracker_box          own"), std::string::npos) << r.out;
+  EXPECT_TRUE(fs::exists(dir / "models/004_sugar_box/texture_map.png"));
+  EXPECT_TRUE(fs::exists(dir / "models/003_cracker_box/texture_map.jpg"));
+  EXPECT_TRUE(fs::exists(dir / "models/002_master_chef_can/textured_simple.obj"));
+  WriteText(dir / "dets.json", Scene49Detections().dump());
+  const CliResult e = RunCli("estimate --dataset " + testing::YcbvDir() + " --models " + (dir / "models").string() +
+                                 " --detections " + (dir / "dets.json").string() + " --iterations 4 -q --out " +
+                                 (dir / "r.csv").string() + " --out-json " + (dir / "r.json").string(),
+                             dir);
+  ASSERT_EQ(e.exit_code, 0) << e.err;
+  const nlohmann::json doc = nlohmann::json::parse(ReadText(dir / "r.json"));
+  for (const auto& o : doc["objects"]) EXPECT_TRUE(o["colour"].get<bool>()) << o["name"];
+  WriteText(dir / "bad.txt", "0049/000001\n0049/000077\n");
+  const CliResult bad = RunCli("capture-appearance --dataset " + testing::YcbvDir() + " --frames " +
+                                   (dir / "bad.txt").string() + " --out " + (dir / "out2").string(),
+                               dir);
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.err.find("bad.txt: line 2"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(dir / "out2"));
 }
 
 }  // namespace

@@ -71,8 +71,22 @@ void AddEstimatorFlags(CLI::App* cmd, unsigned groups, EstimatorFlags* f) {
         ->capture_default_str();
     cmd->add_option("--twin-refine", o.appearance.twin_refine_iterations,
                     "Iterations of the filter that refine the chosen twin")->capture_default_str();
+    cmd->add_option("--colour-ramp", o.appearance.ramp_iterations,
+                    "The colour term's weight grows over this many first iterations; 0: full from the start")
+        ->capture_default_str();
+    cmd->add_option("--colour-step", o.appearance.pixel_step,
+                    "The colour test reads every n-th pixel of each box's grid in x and y, 1 to 4")->capture_default_str();
     cmd->add_option("--colour-min-pixels", o.appearance.min_pixels,
                     "Fewer depth inliers of known colour than this: the neutral A = 0.5")->capture_default_str();
+  }
+  if (groups & kRefineFlags) {
+    cmd->add_option("--refine", f->refine,
+                    "Align the final pose to the observed depth (point-to-plane, robust), kept if its weight does not "
+                    "drop: on or off")->capture_default_str();
+    cmd->add_option("--refine-iterations", o.refine.max_iterations, "Alignment steps for the final pose")
+        ->capture_default_str();
+    cmd->add_option("--refine-twin-iterations", o.refine.twin_iterations,
+                    "Alignment steps for each twin candidate")->capture_default_str();
   }
   if (groups & kEngineFlags) {
     cmd->add_option("--engine", f->engine,
@@ -121,6 +135,11 @@ Status EstimatorFlags::Finish() {
     o.appearance.enabled = appearance == "on";
   } else {
     return InvalidArgument("--appearance must be on or off, got '" + appearance + "'");
+  }
+  if (refine == "on" || refine == "off") {
+    o.refine.enabled = refine == "on";
+  } else {
+    return InvalidArgument("--refine must be on or off, got '" + refine + "'");
   }
   if (colour_space == "rgb") {
     o.appearance.space = AppearanceOptions::Space::kRgb;

@@ -20,7 +20,8 @@ enum FlagGroup : unsigned {
   kSearchFlags = 1u << 3,    // initialization, resampling and diffusion
   kEngineFlags = 1u << 4,    // --engine, its features, --threads, --simd-target
   kAppearanceFlags = 1u << 5,  // --appearance --colour-weight --colour-min-pixels
-  kAllEstimatorFlags = 0x3f,
+  kRefineFlags = 1u << 6,      // --refine ...
+  kAllEstimatorFlags = 0x7f,
 };
 
 // The estimator's options as flags: parsed into `options` and finished by Finish().
@@ -30,6 +31,7 @@ struct EstimatorFlags {
   std::string inlier = "1d";
   std::string appearance = "on";
   std::string colour_space = "intensity-hue";
+  std::string refine = "on";
   std::string simd_target;
   std::vector<double> weights;
   CLI::Option* lod_unbiased = nullptr;

@@ -58,6 +58,10 @@ nlohmann::json ObjectJson(const ObjectRecord& r) {
       {"twins", {{"ran", e.twins.ran}, {"candidates", e.twins.candidates}, {"winner", e.twins.winner},
                  {"winner_weight", e.twins.winner_weight}, {"margin", e.twins.margin},
                  {"refine_iterations", e.twins.refine_iterations}, {"ms", e.twins.ms}}},
+      {"refine", {{"ran", e.refine.ran}, {"accepted", e.refine.accepted}, {"iterations", e.refine.iterations},
+                  {"pairs", e.refine.pairs}, {"rms_before_m", e.refine.rms_before_m},
+                  {"rms_after_m", e.refine.rms_after_m}, {"weight_before", e.refine.weight_before},
+                  {"weight_after", e.refine.weight_after}, {"ms", e.refine.ms}}},
       {"counters", io::CountersToJson(e.Totals())},
   };
 }

@@ -57,6 +57,17 @@ struct TwinRecord {
   double ms = 0;             // wall time of scoring and refinement
 };
 
+// Refinement's record (RefineOptions).
+struct RefineRecord {
+  bool ran = false;
+  bool accepted = false;        // the aligned pose did not lower the full-resolution weight
+  int iterations = 0;           // Gauss-Newton steps taken
+  int pairs = 0;                // model-observed pairs of the last step
+  double rms_before_m = 0, rms_after_m = 0;      // robust point-to-plane residual
+  double weight_before = 0, weight_after = 0;    // full-resolution weight
+  double ms = 0;                // wall time
+};
+
 struct ObjectEstimate {
   int obj_id = 0;
   SE3 T_cam_obj;          // the best-weighted sample ever seen
@@ -67,6 +78,7 @@ struct ObjectEstimate {
   int64_t depth_pixels_read = 0;   // observed depth pixels the depth distributor cut out
   bool colour = false;             // whether the weight had its colour term
   TwinRecord twins;
+  RefineRecord refine;
 
   double final_mean_weight() const { return iterations.empty() ? 0 : iterations.back().mean_weight; }
   EngineCounters Totals() const;  // the counters summed over the iterations

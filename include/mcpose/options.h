@@ -125,6 +125,13 @@ struct AppearanceOptions {
   double weight = 0.3;
   // A sample with fewer depth inliers of known colour than this gets the neutral A = 0.5.
   int min_pixels = 20;
+  // The colour test reads every pixel_step-th pixel of each box's grid in x and y (1 to 4):
+  // a few hundred pixels tell the agreement as well as all of them, at a fraction of the cost.
+  int pixel_step = 3;
+  // The colour term's weight grows over the filter's first ramp_iterations, d (k + 1) / ramp at
+  // iteration k: colour narrows the basin of the right pose, so depth leads the search while it
+  // is wide. The answer is the best sample weighed with the full d. 0: d from the start.
+  int ramp_iterations = 15;
   // What is compared: kRgb the colour as it is; kChroma the normalised colour c / (r + g + b),
   // which shading does not change (pixels darker than r + g + b = 30 count as unknown);
   // kIntensityHue the intensity and two channels of the normalised colour.
@@ -140,6 +147,18 @@ struct AppearanceOptions {
   int twin_refine_iterations = 10;
 };
 
+// Refinement: after the filter (and twin resolution), the pose is aligned to the observed depth
+// in its box by projective point-to-plane steps with a robust loss (refine/align.h), and kept
+// only if that does not lower its full-resolution weight. Twin resolution aligns each of its
+// candidates the same way before comparing them.
+struct RefineOptions {
+  bool enabled = true;           // false: the filter's answer as it is
+  int max_iterations = 20;       // Gauss-Newton steps
+  int twin_iterations = 8;       // steps for each twin candidate
+  double tukey_m = 0.006;        // robust loss scale, metres
+  double max_distance_m = 0.02;  // model and observed points farther apart are not paired
+};
+
 struct EstimatorOptions {
   int samples = 620;         // per object class per image, over all its boxes, >= 1
   int max_iterations = 50;   // >= 1
@@ -152,6 +171,7 @@ struct EstimatorOptions {
   DiffusionOptions diffusion;
   EngineOptions engine;
   AppearanceOptions appearance;
+  RefineOptions refine;
 
   // True if every field is in range and every feature asked for has an effect; otherwise
   // false with a message naming the field(s).

@@ -45,6 +45,7 @@ score::InlierCounts Count(const BoxTarget& target, const float* zbuf, const rend
   c.stride = stride;
   c.rect = rel;
   c.eps_m = settings.eps_m;
+  c.step = settings.colour_step;
   c.grid_x0 = static_cast<float>(box.rect.x0), c.grid_y0 = static_cast<float>(box.rect.y0);
   c.cx = static_cast<float>(box.K_grid.cx), c.cy = static_cast<float>(box.K_grid.cy);
   c.inv_fx = static_cast<float>(1.0 / box.K_grid.fx), c.inv_fy = static_cast<float>(1.0 / box.K_grid.fy);

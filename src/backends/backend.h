@@ -41,6 +41,7 @@ struct SampleSettings {
   float eps_m = 0.01f;
   bool cull_backfaces = true;
   bool batched_setup = true;  // fixed-point backends only
+  int colour_step = 1;        // the colour test reads every colour_step-th pixel (score/colour.h)
 };
 
 // One raster core's working memory, reused from sample to sample.

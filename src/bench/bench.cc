@@ -133,6 +133,7 @@ StatusOr<std::vector<BenchObject>> RunBench(const Dataset& ds, const BenchOption
     const Intrinsics& K = frame.K;
     r.samples = eo.samples;
     r.threads = context.cores().threads();
+    // The depth-only scorer (the colour one, below, where the model has colour).
     MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<engine::BoxScorer> scorer,
                             engine::BoxScorer::Create(context, K, frame.depth, mesh, std::span(&r.box, 1)));
     const uint64_t stream_id = GroupStreamId(r.frame.scene_id, r.frame.image_id, obj_id);
@@ -141,8 +142,12 @@ StatusOr<std::vector<BenchObject>> RunBench(const Dataset& ds, const BenchOption
     // The naive resampler's reads for the same number of draws on each resampled generation.
     int64_t naive_reads = 0;
     NaiveCdf naive;
+    filter::ParticleSet last_generation;  // for the colour comparison below
     const auto observer = [&](int iter, const filter::ParticleSet& weighted) {
-      if (iter + 1 == eo.max_iterations) return;  // the last generation is not resampled
+      if (iter + 1 == eo.max_iterations) {  // the last generation is not resampled
+        last_generation = weighted;
+        return;
+      }
       naive.Build(weighted.weight, eo.resample.keep_top_fraction);
       for (size_t i = 0; i < weighted.size(); ++i)
         naive_reads += naive.Reads(Rng(eo.seed, stream_id, kNaiveStream + static_cast<uint64_t>(iter), i).Uniform());
@@ -157,6 +162,37 @@ StatusOr<std::vector<BenchObject>> RunBench(const Dataset& ds, const BenchOption
     r.full_iteration_ms_median = full.median, r.full_iteration_ms_min = full.min, r.full_iteration_ms_max = full.max;
     r.render_inlier_ms_median = score.median, r.render_inlier_ms_min = score.min, r.render_inlier_ms_max = score.max;
     r.hypotheses_per_s = full.median > 0 ? 1000.0 * eo.samples / full.median : 0;
+    // The same with the colour term, when the model has colour.
+    if (eo.appearance.enabled && !mesh.appearance.empty()) {
+      MCPOSE_ASSIGN_OR_RETURN(ColourImage colour, ds.LoadColour(frame));
+      MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<engine::BoxScorer> with_colour,
+                              engine::BoxScorer::Create(context, K, frame.depth, mesh, std::span(&r.box, 1), &colour));
+      const ObjectEstimate c = engine::RunFilter(*with_colour, eo, context.pool(), stream_id);
+      std::vector<double> c_iteration_ms, c_score_ms;
+      for (const IterationSummary& it : c.iterations) c_iteration_ms.push_back(it.iteration_ms), c_score_ms.push_back(it.score_ms);
+      r.colour = true;
+      r.colour_full_iteration_ms_median = Summarize(c_iteration_ms).median;
+      r.colour_render_inlier_ms_median = Summarize(c_score_ms).median;
+      r.colour_ratio = full.median > 0 ? r.colour_full_iteration_ms_median / full.median : 0;
+      // The same hypotheses (the depth-only run's last generation, on the object), scored with
+      // and without colour in alternating rounds; the rest of an iteration (weights,
+      // resampling, diffusion) is the depth-only run's.
+      std::vector<score::InlierCounts> counts(last_generation.size());
+      std::vector<double> depth_ms, colour_ms;
+      EngineCounters ignored;
+      for (int k = 0; k < std::max(3, options.render_repeats); ++k) {
+        auto t0 = Clock::now();
+        scorer->Count(last_generation, counts, &ignored);
+        depth_ms.push_back(MsSince(t0));
+        t0 = Clock::now();
+        with_colour->Count(last_generation, counts, &ignored);
+        colour_ms.push_back(MsSince(t0));
+      }
+      const double rest = std::max(0.0, full.median - score.median);
+      r.colour_same_render_inlier_ms = Summarize(colour_ms).median;
+      r.depth_same_render_inlier_ms = Summarize(depth_ms).median;
+      r.colour_same_ratio = (r.colour_same_render_inlier_ms + rest) / (r.depth_same_render_inlier_ms + rest);
+    }
     r.triangles_full = static_cast<int>(mesh.triangles.size());
     r.triangles_lod = e.box_triangles[0];
     const double renders = static_cast<double>(eo.samples) * iterations;

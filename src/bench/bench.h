@@ -2,7 +2,8 @@
 // first real frame, the ground-truth visible-mask box (score 1), samples drawn as the
 // estimator draws them. Measures
 //   - the full iteration (render + inlier + weights + resample + diffuse) by running the
-//     estimator for `iterations` iterations with tau = infinity (no early stop);
+//     estimator's filter for `iterations` iterations with tau = infinity (no early stop),
+//     depth only and, where the model has colour, again with the colour term;
 //   - render + inlier alone on the initial hypotheses, for mcpose's raster cores and for each
 //     baseline (src/baselines) on the same hypotheses, same boxes and same mesh, with the
 //     inlier counts compared so that the times are of the same work; interleaved in rounds,
@@ -55,6 +56,15 @@ struct BenchObject {
   double render_inlier_ms_median = 0, render_inlier_ms_min = 0, render_inlier_ms_max = 0;
   double full_iteration_ms_median = 0, full_iteration_ms_min = 0, full_iteration_ms_max = 0;
   double hypotheses_per_s = 0;         // samples / median full iteration
+  // With colour (the model has colour and --appearance on): the same filter on the same
+  // hypotheses with the colour term, run right after the depth-only one; 0 without colour.
+  bool colour = false;
+  double colour_full_iteration_ms_median = 0, colour_render_inlier_ms_median = 0;
+  double colour_ratio = 0;             // colour / depth-only median full iteration
+  // Render + inlier (+ colour) of the depth-only run's last generation, with and without
+  // colour (medians of alternating rounds), and the full iteration's ratio on those same
+  // hypotheses (the rest of an iteration taken from the depth-only run).
+  double depth_same_render_inlier_ms = 0, colour_same_render_inlier_ms = 0, colour_same_ratio = 0;
   int64_t mcpose_inliers_total = 0;    // on the initial hypotheses (baseline comparison)
   double mcpose_render_inlier_initial_ms = 0;  // median, initial hypotheses
   int mcpose_render_inlier_initial_runs = 0;   // timed runs behind that median

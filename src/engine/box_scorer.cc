@@ -102,6 +102,7 @@ StatusOr<std::unique_ptr<BoxScorer>> BoxScorer::Create(Context& context, const I
   s.settings_.eps_m = static_cast<float>(opt.weight.eps_m);
   s.settings_.cull_backfaces = opt.engine.backface_culling;
   s.settings_.batched_setup = opt.engine.batched_setup;
+  s.settings_.colour_step = opt.appearance.pixel_step;
   return scorer;
 }
 
@@ -138,7 +139,7 @@ void BoxScorer::Count(const filter::ParticleSet& particles, std::span<score::Inl
   counters->clusters_culled_outside_box += stats.clusters_culled_outside_box;
 }
 
-void BoxScorer::Weigh(filter::ParticleSet* particles, EngineCounters* counters) {
+void BoxScorer::Weigh(filter::ParticleSet* particles, EngineCounters* counters, double colour_weight) {
   filter::ParticleSet& p = *particles;
   counts_.resize(p.size());
   Count(p, counts_, counters);
@@ -147,11 +148,9 @@ void BoxScorer::Weigh(filter::ParticleSet* particles, EngineCounters* counters) 
     for (size_t i = 0; i < p.size(); ++i) p.weight[i] = score::Weight(counts_[i], observed_[p.box[i]].score, w);
     return;
   }
-  const AppearanceOptions& a = context_->options().appearance;
-  for (size_t i = 0; i < p.size(); ++i) {
-    p.weight[i] = (1 - a.weight) * score::Weight(counts_[i], observed_[p.box[i]].score, w) +
-                  a.weight * score::ColourAgreement(counts_[i].colour, a.min_pixels);
-  }
+  AppearanceOptions a = context_->options().appearance;
+  if (colour_weight >= 0) a.weight = colour_weight;
+  for (size_t i = 0; i < p.size(); ++i) p.weight[i] = score::WeightWithColour(counts_[i], observed_[p.box[i]].score, w, a);
 }
 
 }  // namespace mcpose::engine

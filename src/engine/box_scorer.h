@@ -68,9 +68,11 @@ class BoxScorer {
   const appearance::ColourGrid* colour_grid() const { return colour_.get(); }
 
   // Steps 2 and 3 of the filter: counts[i] = the inlier counts of particle i rendered in its
-  // box, then particles->weight[i] its weight. Add the engine's counters to *counters.
+  // box, then particles->weight[i] its weight, whose colour term (when the scorer uses
+  // colour) has weight `colour_weight`, the options' appearance.weight when negative. Add the
+  // engine's counters to *counters.
   void Count(const filter::ParticleSet& particles, std::span<score::InlierCounts> counts, EngineCounters* counters);
-  void Weigh(filter::ParticleSet* particles, EngineCounters* counters);
+  void Weigh(filter::ParticleSet* particles, EngineCounters* counters, double colour_weight = -1);
 
  private:
   explicit BoxScorer(Context& context) : context_(&context) {}

@@ -46,8 +46,11 @@ ObjectEstimate RunFilter(BoxScorer& scorer, const EstimatorOptions& opt, ThreadP
     IterationSummary& it = result.iterations.emplace_back();
     const Clock::time_point start = Clock::now();
 
-    // 2-3. Render each sample in its box, count its inliers, weigh it.
-    scorer.Weigh(&p, &it.counters);
+    // 2-3. Render each sample in its box, count its inliers, weigh it (the colour term's weight
+    // ramped up over the first iterations; the answer comes from those at the full weight).
+    const int ramp = scorer.uses_colour() ? opt.appearance.ramp_iterations : 0;
+    const bool full_weight = iter + 1 >= ramp || iter + 1 == opt.max_iterations;
+    scorer.Weigh(&p, &it.counters, full_weight ? -1.0 : opt.appearance.weight * (iter + 1) / ramp);
     it.score_ms = MsSince(start);
     if (observer) observer(iter, p);
     double sum = 0;
@@ -55,7 +58,7 @@ ObjectEstimate RunFilter(BoxScorer& scorer, const EstimatorOptions& opt, ThreadP
     for (size_t i = 0; i < p.size(); ++i) {
       sum += p.weight[i];
       it.best_weight = std::max(it.best_weight, p.weight[i]);
-      if (p.weight[i] > result.best_weight) {  // ties: the earliest sample seen
+      if (full_weight && p.weight[i] > result.best_weight) {  // ties: the earliest sample seen
         result.best_weight = p.weight[i];
         result.T_cam_obj = p.Pose(i);
         result.best_box = p.box[i];

@@ -67,6 +67,8 @@ bool EstimatorOptions::IsValid(std::string* error) const {
 
   if (!(appearance.weight >= 0 && appearance.weight < 1)) return Fail(error, "appearance.weight must lie in [0, 1)");
   if (appearance.min_pixels < 2) return Fail(error, "appearance.min_pixels must be >= 2");
+  if (appearance.pixel_step < 1 || appearance.pixel_step > 4) return Fail(error, "appearance.pixel_step must lie in [1, 4]");
+  if (appearance.ramp_iterations < 0) return Fail(error, "appearance.ramp_iterations must be >= 0");
   {
     const double steps = 360.0 / appearance.twin_step_deg;
     if (!(appearance.twin_step_deg >= 1 && appearance.twin_step_deg <= 180) ||
@@ -74,6 +76,12 @@ bool EstimatorOptions::IsValid(std::string* error) const {
       return Fail(error, "appearance.twin_step_deg must divide 360 and lie in [1, 180]");
   }
   if (appearance.twin_refine_iterations < 0) return Fail(error, "appearance.twin_refine_iterations must be >= 0");
+
+  if (refine.max_iterations < 0 || refine.twin_iterations < 0)
+    return Fail(error, "refine.max_iterations and refine.twin_iterations must be >= 0");
+  if (!(std::isfinite(refine.tukey_m) && refine.tukey_m > 0)) return Fail(error, "refine.tukey_m must be > 0");
+  if (!(std::isfinite(refine.max_distance_m) && refine.max_distance_m > 0))
+    return Fail(error, "refine.max_distance_m must be > 0");
 
   if (!finite_nonnegative(engine.lod_error_px))
     return Fail(error, "engine.lod_error_px must be finite and >= 0 (0 = full mesh)");

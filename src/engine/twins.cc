@@ -3,12 +3,14 @@
 #include <chrono>
 #include <cmath>
 #include <numbers>
+#include <numeric>
 
 #include <Eigen/Geometry>
 
 #include "core/rng.h"
 #include "filter/diffuse.h"
 #include "engine/filter_loop.h"
+#include "engine/refinement.h"
 
 namespace mcpose::engine {
 
@@ -16,6 +18,8 @@ namespace {
 
 // Substream of the refinement's starting samples.
 constexpr uint64_t kTwinStream = 0x7715;
+// Candidates aligned to the depth before the final comparison: the best by their first score.
+constexpr int kAlignedCandidates = 8;
 
 }  // namespace
 
@@ -50,27 +54,43 @@ std::vector<SE3> TwinCandidates(const SE3& T, const Mesh& mesh, double step_deg)
   return out;
 }
 
-StatusOr<ObjectEstimate> ResolveTwins(Context& context, BoxScorer& scorer, const DepthImage& depth,
-                                      const ColourImage& colour, ObjectEstimate filtered, uint64_t stream_id) {
+ObjectEstimate ResolveTwins(Context& context, BoxScorer& scorer, BoxScorer& full, const DepthImage& depth,
+                            ObjectEstimate filtered, uint64_t stream_id) {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   const EstimatorOptions& opt = context.options();
   const AppearanceOptions& a = opt.appearance;
   const int box = filtered.best_box;
 
-  // ---- Score every candidate on every pixel of the full mesh, in the chosen box ------------
-  const Detection chosen = scorer.detection(box);
-  MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<BoxScorer> full,
-                          BoxScorer::Create(context, scorer.K(), depth, scorer.mesh(), std::span(&chosen, 1), &colour,
-                                            Resolution::kFull));
-  const std::vector<SE3> candidates = TwinCandidates(filtered.T_cam_obj, scorer.mesh(), a.twin_step_deg);
+  // ---- Every candidate scored on every pixel of the full mesh; the best few aligned to the
+  // depth (refine/align.h) and scored again: a twin's best place can lie a little off the
+  // candidate (a curved object turned about its box centre) --------------------------------
+  std::vector<SE3> candidates = TwinCandidates(filtered.T_cam_obj, scorer.mesh(), a.twin_step_deg);
   filter::ParticleSet poses;
-  poses.Resize(candidates.size());
-  for (size_t i = 0; i < candidates.size(); ++i) {
-    poses.R_cam_obj[i] = candidates[i].R, poses.t_cam_obj_m[i] = candidates[i].t, poses.box[i] = 0;
+  auto score = [&] {
+    poses.Resize(candidates.size());
+    for (size_t i = 0; i < candidates.size(); ++i) {
+      poses.R_cam_obj[i] = candidates[i].R, poses.t_cam_obj_m[i] = candidates[i].t, poses.box[i] = 0;
+    }
+    EngineCounters counters;
+    full.Weigh(&poses, &counters);
+  };
+  score();
+  if (opt.refine.enabled && opt.refine.twin_iterations > 0) {
+    std::vector<size_t> order(candidates.size());
+    std::iota(order.begin(), order.end(), size_t{0});
+    std::stable_sort(order.begin(), order.end(), [&](size_t x, size_t y) { return poses.weight[x] > poses.weight[y]; });
+    order.resize(std::min(order.size(), static_cast<size_t>(kAlignedCandidates)));
+    const refine::AlignOptions align = AlignSettings(opt.refine, opt.refine.twin_iterations);
+    const render::PixelRect rect = full.box_observation(0).image_rect;
+    context.pool().ParallelFor(static_cast<int64_t>(order.size()), [&](int64_t begin, int64_t end, int) {
+      for (int64_t k = begin; k < end; ++k) {
+        SE3& c = candidates[order[static_cast<size_t>(k)]];
+        c = refine::AlignToDepth(scorer.K(), depth, rect, scorer.mesh(), c, align).T_cam_obj;
+      }
+    });
+    score();
   }
-  EngineCounters counters;
-  full->Weigh(&poses, &counters);
   size_t winner = 0;
   for (size_t i = 1; i < poses.size(); ++i)
     if (poses.weight[i] > poses.weight[winner]) winner = i;  // ties: the earlier candidate
@@ -93,6 +113,7 @@ StatusOr<ObjectEstimate> ResolveTwins(Context& context, BoxScorer& scorer, const
     refine.diffusion.sigma_t_m = opt.diffusion.sigma_t_min_m;
     refine.diffusion.sigma_r_rad = opt.diffusion.sigma_r_min_rad;
     refine.diffusion.flip_rate = 0;
+    refine.appearance.ramp_iterations = 0;
     filter::ParticleSet start;
     start.Resize(static_cast<size_t>(opt.samples));
     for (int i = 0; i < opt.samples; ++i) {

@@ -21,10 +21,11 @@ int DistinctAxis(const Mesh& mesh);
 std::vector<SE3> TwinCandidates(const SE3& T, const Mesh& mesh, double step_deg);
 
 // Resolves the twins of `filtered` (the filter's answer of `scorer`, whose weight has its colour
-// term): scores the candidates in the chosen box with a full-resolution scorer on the same
-// raster cores, keeps the best, refines it with the filter (options.appearance), and returns
-// the estimate with its `twins` record filled. Deterministic for (options.seed, stream_id).
-StatusOr<ObjectEstimate> ResolveTwins(Context& context, BoxScorer& scorer, const DepthImage& depth,
-                                      const ColourImage& colour, ObjectEstimate filtered, uint64_t stream_id);
+// term): aligns each candidate to the depth (options.refine, when enabled), scores them with
+// `full` (a full-resolution scorer of the chosen box alone, on the same raster cores), keeps the
+// best, refines it with the filter (options.appearance), and returns the estimate with its
+// `twins` record filled. Deterministic for (options.seed, stream_id).
+ObjectEstimate ResolveTwins(Context& context, BoxScorer& scorer, BoxScorer& full, const DepthImage& depth,
+                            ObjectEstimate filtered, uint64_t stream_id);
 
 }  // namespace mcpose::engine

@@ -86,11 +86,13 @@ StatusOr<Mesh> ParseObj(const std::string& path, const std::string& text,
   std::shared_ptr<const ColourImage> texture;
   if (textured_material >= 0) {
     const std::string texture_path = (dir / materials[textured_material].diffuse_texname).string();
-    StatusOr<ColourImage> image = ReadColourImage(texture_path);
-    if (image.ok()) {
-      texture = std::make_shared<const ColourImage>(ReduceTexture(std::move(image).value(), kMaxTextureSide));
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(texture_path, ec)) {
+      WarnOnce(path + ": no colour: its material names the texture " + texture_path + ", which does not exist");
     } else {
-      WarnOnce(path + ": no colour: its material's texture cannot be read (" + image.status().message() + ")");
+      // A texture that is there but cannot be decoded is bad input, not a model without colour.
+      MCPOSE_ASSIGN_OR_RETURN(ColourImage image, ReadColourImage(texture_path));
+      texture = std::make_shared<const ColourImage>(ReduceTexture(std::move(image), kMaxTextureSide));
     }
   }
   const size_t num_texcoords = attrib.texcoords.size() / 2;

@@ -1,9 +1,10 @@
 // Wavefront OBJ meshes through tinyobjloader: positions, triangles and, where the file has them,
 // texture coordinates with the material's diffuse texture (`map_Kd`, PNG or JPEG) as the
 // mesh's appearance. A missing .mtl file means no colour (YCB-Video ships most models without
-// theirs); a material naming a texture that is missing or unreadable means no colour too, with
-// one warning per file. Normals and vertex colours are not read (YCB-Video's `v x y z r g b`
-// lines carry one grey for every vertex).
+// theirs); a material naming a texture that does not exist means no colour too, with one
+// warning per file; a texture that exists but cannot be decoded (truncated, not an image) is an
+// error naming it. Normals and vertex colours are not read (YCB-Video's `v x y z r g b` lines
+// carry one grey for every vertex).
 #pragma once
 
 #include <string>

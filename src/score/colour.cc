@@ -1,21 +1,27 @@
 #include "score/colour.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace mcpose::score {
 
 ColourStats CountColour(const ColourSample& s, const ColourLookup& g) {
   ColourStats out;
-  const float R0 = s.R_model_cam[0], R1 = s.R_model_cam[1], R2 = s.R_model_cam[2];
-  const float R3 = s.R_model_cam[3], R4 = s.R_model_cam[4], R5 = s.R_model_cam[5];
-  const float R6 = s.R_model_cam[6], R7 = s.R_model_cam[7], R8 = s.R_model_cam[8];
   const float nx = static_cast<float>(g.nx), ny = static_cast<float>(g.ny), nz = static_cast<float>(g.nz);
-  for (int y = s.rect.y0; y < s.rect.y1; ++y) {
+  // Model point p = R (u z, v z, z) + t of the pixel looking along (u, v, 1), in cell units:
+  // g_a = ((R_a0 u + (R_a1 v + R_a2)) inv_cell) z + (t_a - origin_a) inv_cell.
+  float c[3];
+  for (int a = 0; a < 3; ++a) c[a] = (s.t_model_cam[a] - g.origin[a]) * g.inv_cell;
+  const int step = s.step;
+  auto first = [step](int v) { return (v + step - 1) / step * step; };  // v >= 0
+  for (int y = first(s.rect.y0); y < s.rect.y1; y += step) {
     const float v = (s.grid_y0 + static_cast<float>(y) - s.cy) * s.inv_fy;
+    float rv[3];
+    for (int a = 0; a < 3; ++a) rv[a] = s.R_model_cam[3 * a + 1] * v + s.R_model_cam[3 * a + 2];
     const float* zr = s.rendered + static_cast<size_t>(y) * s.stride;
     const float* zo = s.observed + static_cast<size_t>(y) * s.stride;
     const uint32_t* rgba = s.observed_rgba + static_cast<size_t>(y) * s.stride;
-    for (int x = s.rect.x0; x < s.rect.x1; ++x) {
+    for (int x = first(s.rect.x0); x < s.rect.x1; x += step) {
       // A depth inlier with an observed colour...
       const float z = zr[x];
       if (!(z != INFINITY && zo[x] > 0.f && std::fabs(z - zo[x]) < s.eps_m)) continue;
@@ -23,17 +29,16 @@ ColourStats CountColour(const ColourSample& s, const ColourLookup& g) {
       if ((obs >> 24) == 0) continue;
       // ... whose surface point, in the model frame, lies in a grid cell of known colour.
       const float u = (s.grid_x0 + static_cast<float>(x) - s.cx) * s.inv_fx;
-      const float px = u * z, py = v * z;
-      const float gx = (R0 * px + R1 * py + R2 * z + s.t_model_cam[0] - g.origin[0]) * g.inv_cell;
-      const float gy = (R3 * px + R4 * py + R5 * z + s.t_model_cam[1] - g.origin[1]) * g.inv_cell;
-      const float gz = (R6 * px + R7 * py + R8 * z + s.t_model_cam[2] - g.origin[2]) * g.inv_cell;
-      if (!(gx >= 0.f && gx < nx && gy >= 0.f && gy < ny && gz >= 0.f && gz < nz)) continue;
-      const uint32_t cell = g.cells[(static_cast<size_t>(gz) * g.ny + static_cast<size_t>(gy)) * g.nx + static_cast<size_t>(gx)];
+      float gc[3];
+      for (int a = 0; a < 3; ++a) gc[a] = (s.R_model_cam[3 * a] * u + rv[a]) * g.inv_cell * z + c[a];
+      if (!(gc[0] >= 0.f && gc[0] < nx && gc[1] >= 0.f && gc[1] < ny && gc[2] >= 0.f && gc[2] < nz)) continue;
+      const uint32_t cell =
+          g.cells[(static_cast<size_t>(gc[2]) * g.ny + static_cast<size_t>(gc[1])) * g.nx + static_cast<size_t>(gc[0])];
       if ((cell >> 24) < kKnownAlpha) continue;
       ++out.n;
-      for (int c = 0; c < 3; ++c) {
-        const int64_t m = (cell >> (8 * c)) & 0xff, o = (obs >> (8 * c)) & 0xff;
-        out.m[c] += m, out.o[c] += o, out.mm[c] += m * m, out.oo[c] += o * o, out.mo[c] += m * o;
+      for (int ch = 0; ch < 3; ++ch) {
+        const int64_t m = (cell >> (8 * ch)) & 0xff, o = (obs >> (8 * ch)) & 0xff;
+        out.m[ch] += m, out.o[ch] += o, out.mm[ch] += m * m, out.oo[ch] += o * o, out.mo[ch] += m * o;
       }
     }
   }

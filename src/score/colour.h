@@ -70,14 +70,16 @@ struct ColourSample {
   int stride = 0;                          // row stride of the three, pixels
   render::PixelRect rect;                  // box-relative pixels to test (nothing drawn outside)
   float eps_m = 0.01f;                     // the depth-inlier threshold
+  int step = 1;                            // test the pixels with x and y multiples of this (1-4)
   float grid_x0 = 0, grid_y0 = 0, cx = 0, cy = 0, inv_fx = 0, inv_fy = 0;
   float R_model_cam[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};  // row-major
   float t_model_cam[3] = {0, 0, 0};                     // p_model = R p_cam + t
 };
 
-// Counts pixel (x, y) when it is a depth inlier (drawn, observed depth valid, |z_r - z_o| <
-// eps), its observed colour is there and its model colour is known: the reference, a pixel at a
-// time, in the order the SIMD kernel's float operations follow.
+// Counts pixel (x, y) of the rect, x and y multiples of `step`, when it is a depth inlier (drawn,
+// observed depth valid, |z_r - z_o| < eps), its observed colour is there and its model colour is
+// known: the reference, a pixel at a time, in the order the SIMD kernel's float operations
+// follow.
 ColourStats CountColour(const ColourSample& sample, const ColourLookup& lookup);
 // The same sums a Highway vector of pixels at a time (colour_simd.cc, dispatched at run time).
 ColourStats CountColourSimd(const ColourSample& sample, const ColourLookup& lookup);
@@ -88,5 +90,6 @@ ColourStats CountColourSimd(const ColourSample& sample, const ColourLookup& look
 // `min_pixels` pixels were counted or no channel varies.
 inline constexpr double kNeutralAgreement = 0.5;
 double ColourAgreement(const ColourStats& stats, int min_pixels);
+
 
 }  // namespace mcpose::score

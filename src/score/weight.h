@@ -21,4 +21,22 @@ inline double Weight(const InlierCounts& n, double score, const WeightOptions& w
   return Weight(n, score, w.a, w.b, w.c, w.occlusion_aware);
 }
 
+// The colour agreement the weight uses: ColourAgreement of the depth inliers drawn towards
+// neutral by the share of the rendered object hidden behind observed surfaces,
+// A' = 0.5 + (A - 0.5) (1 - occluded / rendered). The depth terms excuse hidden pixels (an
+// object partly behind another is not punished for it); without this, a pose sunk into the
+// table, its few visible pixels matching well, could outweigh the object in plain view.
+inline double VisibleColourAgreement(const InlierCounts& n, int min_pixels) {
+  const double a = ColourAgreement(n.colour, min_pixels);
+  const double visible = n.rendered > 0 ? 1.0 - static_cast<double>(n.occluded) / n.rendered : 0.0;
+  return kNeutralAgreement + (a - kNeutralAgreement) * visible;
+}
+
+// w = (1 - d) (a N / N_b + b N / N_r + c score) + d A', d = appearance.weight.
+inline double WeightWithColour(const InlierCounts& n, double score, const WeightOptions& w,
+                               const AppearanceOptions& appearance) {
+  return (1 - appearance.weight) * Weight(n, score, w) +
+         appearance.weight * VisibleColourAgreement(n, appearance.min_pixels);
+}
+
 }  // namespace mcpose::score

@@ -1,0 +1,94 @@
+#include "engine/refinement.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "engine/context.h"
+#include "synthetic_mesh.h"
+#include "synthetic_scene.h"
+
+namespace mcpose::engine {
+namespace {
+
+struct Scene {
+  Mesh mesh = testing::Blob();
+  SE3 T_gt{ExpSO3(Eigen::Vector3d(0.4, -0.3, 0.5)), Eigen::Vector3d(-0.01, 0.01, 0.5)};
+  testing::SyntheticFrame frame;
+  Detection box;
+};
+
+// The blob over random background; its colour a field over the model, so that a shifted pose
+// shows other colours.
+Scene MakeScene() {
+  Scene s;
+  for (const Eigen::Vector3f& v : s.mesh.vertices_m)
+    s.mesh.appearance.vertex_colours.push_back({static_cast<uint8_t>(128 + 2000 * v.x()), static_cast<uint8_t>(128 + 2000 * v.y()),
+                                                static_cast<uint8_t>(128 + 1500 * v.z()), 255});
+  s.frame = testing::RenderFrame(
+      s.mesh, s.T_gt,
+      [](const Eigen::Vector3f& p) {
+        return Rgba8{static_cast<uint8_t>(128 + 2000 * p.x()), static_cast<uint8_t>(128 + 2000 * p.y()),
+                     static_cast<uint8_t>(128 + 1500 * p.z()), 255};
+      },
+      4);
+  int x0 = 320, y0 = 240, x1 = 0, y1 = 0;
+  for (int y = 0; y < 240; ++y)
+    for (int x = 0; x < 320; ++x)
+      if (s.frame.visible.values[y * 320 + x]) x0 = std::min(x0, x), y0 = std::min(y0, y), x1 = std::max(x1, x), y1 = std::max(y1, y);
+  s.box = Detection{1, 1, 1, 0.9, x0 - 10.0, y0 - 10.0, x1 - x0 + 21.0, y1 - y0 + 21.0};
+  return s;
+}
+
+std::unique_ptr<BoxScorer> FullScorer(Context& context, const Scene& s, const ColourImage* colour) {
+  auto r = BoxScorer::Create(context, s.frame.K, s.frame.depth, s.mesh, std::span(&s.box, 1), colour, Resolution::kFull);
+  EXPECT_TRUE(r.ok()) << r.status().ToString();
+  return std::move(r).value();
+}
+
+TEST(Refinement, APerturbedPoseIsAlignedAndAccepted) {
+  const Scene s = MakeScene();
+  EstimatorOptions o;
+  o.engine.threads = 1;
+  Context context(o);
+  auto full = FullScorer(context, s, nullptr);
+  ObjectEstimate e;
+  e.T_cam_obj = SE3(ExpSO3(Eigen::Vector3d(0.03, -0.05, 0.02)) * s.T_gt.R, s.T_gt.t + Eigen::Vector3d(0.004, -0.006, 0.005));
+  const ObjectEstimate r = RefineEstimate(o.refine, *full, s.frame.depth, e);
+  EXPECT_TRUE(r.refine.ran);
+  EXPECT_TRUE(r.refine.accepted);
+  EXPECT_GE(r.refine.weight_after, r.refine.weight_before);
+  EXPECT_LT(r.refine.rms_after_m, r.refine.rms_before_m);
+  EXPECT_LT((r.T_cam_obj.t - s.T_gt.t).norm(), 0.001);
+  EXPECT_LT(RotationAngle(r.T_cam_obj.R, s.T_gt.R) * 180 / M_PI, 0.5);
+}
+
+// The colour image shifted 8 pixels against the depth: the pose whose colour fits best lies off
+// the depth's best pose. Weighed mostly by colour, alignment to the depth would lower the weight
+// of that pose, so it is rejected and the pose kept as it was.
+TEST(Refinement, AnAlignmentThatLowersTheWeightIsRejected) {
+  Scene s = MakeScene();
+  ColourImage shifted = s.frame.colour;
+  for (int y = 0; y < 240; ++y)
+    for (int x = 0; x < 320; ++x)
+      for (int c = 0; c < 4; ++c)
+        shifted.rgba[4 * (y * 320 + x) + c] = s.frame.colour.rgba[4 * (y * 320 + std::max(0, x - 8)) + c];
+  EstimatorOptions o;
+  o.engine.threads = 1;
+  o.appearance.weight = 0.9;
+  Context context(o);
+  auto full = FullScorer(context, s, &shifted);
+  ASSERT_TRUE(full->uses_colour());
+  // The colour's best pose: the truth moved 8 pixels to the right, at the object's depth.
+  ObjectEstimate e;
+  e.T_cam_obj = SE3(s.T_gt.R, s.T_gt.t + Eigen::Vector3d(8 * s.T_gt.t.z() / s.frame.K.fx, 0, 0));
+  const ObjectEstimate r = RefineEstimate(o.refine, *full, s.frame.depth, e);
+  EXPECT_TRUE(r.refine.ran);
+  EXPECT_FALSE(r.refine.accepted);
+  EXPECT_EQ(r.refine.weight_after, r.refine.weight_before);
+  EXPECT_EQ(r.T_cam_obj.t, e.T_cam_obj.t);
+  EXPECT_EQ(r.T_cam_obj.R, e.T_cam_obj.R);
+}
+
+}  // namespace
+}  // namespace mcpose::engine
