@@ -7,7 +7,7 @@
 # keeps depth only. The videos' results are merged into one results CSV (and one detail JSON).
 # LOO_SYNTHETIC=0 leaves the synthetic frames out of the capture.
 # Usage: scripts/estimate_loo.sh DATASET DETECTIONS OUT_CSV [--out-json FILE] [mcpose estimate options]
-# Captured models go to out/appearance/not_VVVV/. Needs build/mcpose (scripts/build.sh).
+# Captured models go to out/appearance/not_VVVV/ (scripts/capture_loo.sh). Needs build/mcpose.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 if [ $# -lt 3 ]; then sed -n '2,10p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2; fi
@@ -23,18 +23,7 @@ parts=()
 jsons=()
 for v in $videos; do
   scene=$((10#$v))
-  # The frames of the other videos, and the synthetic ones.
-  list="$work/frames_not_$v.txt"
-  : > "$list"
-  for w in $videos; do
-    [ "$w" = "$v" ] && continue
-    for f in "$DATASET/data/$w"/*-meta.mat; do b=$(basename "$f" -meta.mat); echo "$w/$b" >> "$list"; done
-  done
-  if [ -d "$DATASET/data_syn" ] && [ "${LOO_SYNTHETIC:-1}" != 0 ]; then
-    for f in "$DATASET/data_syn"/*-meta.mat; do echo "data_syn/$(basename "$f" -meta.mat)" >> "$list"; done
-  fi
-  rm -rf "$work/not_$v"
-  ./build/mcpose capture-appearance --dataset "$DATASET" --frames "$list" --out "$work/not_$v" ${CAPTURE_OPTIONS:-} > "$work/capture_not_$v.txt"
+  scripts/capture_loo.sh "$DATASET" "$v"
   # This video's detections (skipped when it has none).
   /usr/bin/python3 -c "import json, sys; sys.exit(0 if any(d['scene_id'] == $scene for d in json.load(open(sys.argv[1]))) else 1)" \
     "$DETECTIONS" || continue

@@ -670,5 +670,70 @@ TEST(CliColour, CaptureWritesAModelsFolderThatEstimateUses) {
   EXPECT_FALSE(fs::exists(dir / "out2"));
 }
 
+// ---- mcpose track -----------------------------------------------------------------------------
+
+// Video 49 frames 1-3 from the ground-truth boxes: frame 1 starts every track, later frames are
+// tracked (none lost), every tracked pose within 2 cm ADD-S of the ground truth by mcpose eval,
+// and the same CSV at 1 and 2 threads.
+TEST(CliTrack, TracksVideo49AtAnyThreadCount) {
+  const fs::path dir = testing::TempDir("track");
+  std::vector<std::vector<std::string>> runs;
+  for (int threads : {1, 2}) {
+    const fs::path out = dir / ("t" + std::to_string(threads) + ".csv"), js = dir / "t.json";
+    const CliResult r = RunCli("track -q --dataset " + testing::YcbvDir() + " --video 49 --frames 1-3 --samples 200 " +
+                                   "--iterations 30 --threads " + std::to_string(threads) + " --out " + out.string() +
+                                   " --out-json " + js.string(),
+                               dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    runs.push_back(RowsWithoutTime(out));
+    const nlohmann::json doc = nlohmann::json::parse(ReadText(js));
+    ASSERT_EQ(doc["steps"].size(), 12u);  // 4 objects x 3 frames
+    for (const nlohmann::json& s : doc["steps"]) {
+      EXPECT_EQ(s["initialised"].get<bool>(), s["im_id"].get<int>() == 1) << s.dump();
+      EXPECT_FALSE(s["lost"].get<bool>()) << s.dump();
+      EXPECT_GT(s["fit"].get<double>(), 0.4) << s.dump();
+    }
+  }
+  EXPECT_EQ(runs[0], runs[1]);
+  const fs::path ej = dir / "eval.json";
+  const CliResult e = RunCli("eval --dataset " + testing::YcbvDir() + " --results " + (dir / "t1.csv").string() +
+                                 " --json " + ej.string(),
+                             dir);
+  ASSERT_EQ(e.exit_code, 0) << e.err;
+  const nlohmann::json ev = nlohmann::json::parse(ReadText(ej));
+  int scored = 0;
+  for (const nlohmann::json& i : ev["instances"]) {
+    if (!i["has_result"].get<bool>() || i["im_id"].get<int>() == 1) continue;
+    ++scored;
+    EXPECT_LT(i["adds_m"].get<double>(), 0.02) << i.dump();
+  }
+  EXPECT_EQ(scored, 8);
+}
+
+TEST(CliTrack, BadInputIsOneErrorAndNoOutput) {
+  const fs::path dir = testing::TempDir("track_bad");
+  const std::string base = "track --dataset " + testing::YcbvDir() + " --out " + (dir / "t.csv").string() +
+                           " --out-json " + (dir / "t.json").string() + " ";
+  WriteText(dir / "unknown.json",
+            R"([{"scene_id": 49, "image_id": 1, "category_id": 99, "score": 1, "bbox": [10, 10, 50, 50]}])");
+  const std::pair<std::string, std::string> cases[] = {
+      {"--video 49 --frames 5-2", "--frames"},
+      {"--video 49 --frames two", "--frames"},
+      {"--video 77", "no frame of video 77"},
+      {"--video 49 --frames 1-2 --detections " + (dir / "unknown.json").string(), "unknown class"},
+      {"--video 49 --frames 1-2 --detections " + (dir / "missing.json").string(), "missing.json"},
+      {"--video 49 --lost-fit 1.5", "lost_fit"},
+      {"--video 49 --track-iterations 0", "iterations"},
+  };
+  for (const auto& [args, must_contain] : cases) {
+    const CliResult r = RunCli(base + args, dir);
+    EXPECT_NE(r.exit_code, 0) << args;
+    EXPECT_NE(r.err.find(must_contain), std::string::npos) << args << ": " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "t.csv")) << args;
+    EXPECT_FALSE(fs::exists(dir / "t.json")) << args;
+  }
+}
+
 }  // namespace
 }  // namespace mcpose

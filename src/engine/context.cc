@@ -9,29 +9,33 @@ Context::Context(const EstimatorOptions& options)
   MCPOSE_CHECK(options.IsValid(nullptr));
 }
 
+Context::Context(const EstimatorOptions& options, const Context& caches_from) : Context(options) {
+  caches_ = caches_from.caches_;
+}
+
 std::shared_ptr<const render::LodChain> Context::Lod(const Mesh& mesh) {
   if (!(options_.engine.lod_error_px > 0)) return nullptr;
   const uint64_t key = render::MeshFingerprint(mesh);
   {
-    std::lock_guard<std::mutex> lock(lod_mutex_);
-    if (auto it = lod_cache_.find(key); it != lod_cache_.end()) return it->second;
+    std::lock_guard<std::mutex> lock(caches_->mutex);
+    if (auto it = caches_->lod.find(key); it != caches_->lod.end()) return it->second;
   }
   auto built = std::make_shared<const render::LodChain>(render::LodChain::Build(
       mesh, options_.engine.lod_unbiased ? render::LodVertices::kUnbiased : render::LodVertices::kKept));
-  std::lock_guard<std::mutex> lock(lod_mutex_);
-  return lod_cache_.emplace(key, std::move(built)).first->second;
+  std::lock_guard<std::mutex> lock(caches_->mutex);
+  return caches_->lod.emplace(key, std::move(built)).first->second;
 }
 
 std::shared_ptr<const appearance::ColourGrid> Context::Colour(const Mesh& mesh) {
   if (!options_.appearance.enabled || mesh.appearance.empty()) return nullptr;
   const uint64_t key = render::MeshFingerprint(mesh) ^ (appearance::AppearanceFingerprint(mesh.appearance) * 31);
   {
-    std::lock_guard<std::mutex> lock(lod_mutex_);
-    if (auto it = colour_cache_.find(key); it != colour_cache_.end()) return it->second;
+    std::lock_guard<std::mutex> lock(caches_->mutex);
+    if (auto it = caches_->colour.find(key); it != caches_->colour.end()) return it->second;
   }
   std::shared_ptr<const appearance::ColourGrid> built = appearance::ColourGrid::Build(mesh);
-  std::lock_guard<std::mutex> lock(lod_mutex_);
-  return colour_cache_.emplace(key, std::move(built)).first->second;
+  std::lock_guard<std::mutex> lock(caches_->mutex);
+  return caches_->colour.emplace(key, std::move(built)).first->second;
 }
 
 void Context::PrepareMeshes(std::span<const Mesh* const> meshes) {

@@ -22,6 +22,9 @@ class Context {
  public:
   // `options` must be valid (EstimatorOptions::IsValid).
   explicit Context(const EstimatorOptions& options);
+  // A context of other options that shares `caches_from`'s LOD chains and colour grids (its
+  // engine and appearance options must build the same ones: the tracker's two configurations).
+  Context(const EstimatorOptions& options, const Context& caches_from);
 
   const EstimatorOptions& options() const { return options_; }
   RasterCores& cores() { return cores_; }
@@ -40,9 +43,12 @@ class Context {
  private:
   EstimatorOptions options_;
   RasterCores cores_;
-  std::mutex lod_mutex_;  // guards both caches
-  std::map<uint64_t, std::shared_ptr<const render::LodChain>> lod_cache_;
-  std::map<uint64_t, std::shared_ptr<const appearance::ColourGrid>> colour_cache_;
+  struct Caches {
+    std::mutex mutex;  // guards both maps
+    std::map<uint64_t, std::shared_ptr<const render::LodChain>> lod;
+    std::map<uint64_t, std::shared_ptr<const appearance::ColourGrid>> colour;
+  };
+  std::shared_ptr<Caches> caches_ = std::make_shared<Caches>();
 };
 
 }  // namespace mcpose::engine

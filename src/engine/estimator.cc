@@ -1,10 +1,7 @@
 #include "mcpose/estimator.h"
 
-#include "engine/box_scorer.h"
 #include "engine/context.h"
-#include "engine/filter_loop.h"
-#include "engine/refinement.h"
-#include "engine/twins.h"
+#include "engine/estimate.h"
 
 namespace mcpose {
 
@@ -53,21 +50,7 @@ StatusOr<ObjectEstimate> Estimator::Estimate(const Intrinsics& K, const DepthIma
 StatusOr<ObjectEstimate> Estimator::Estimate(const Intrinsics& K, const DepthImage& depth, const ColourImage* colour,
                                              const Mesh& mesh, std::span<const Detection> boxes,
                                              uint64_t stream_id) {
-  MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<engine::BoxScorer> scorer,
-                          engine::BoxScorer::Create(*context_, K, depth, mesh, boxes, colour));
-  const EstimatorOptions& opt = context_->options();
-  ObjectEstimate estimate = engine::RunFilter(*scorer, opt, context_->pool(), stream_id);
-  const bool twins = scorer->uses_colour() && opt.appearance.resolve_twins;
-  if (!twins && !opt.refine.enabled) return estimate;
-  // Twin resolution and refinement judge poses finely: every pixel of the chosen box, the full
-  // mesh, with colour where the filter had it.
-  const Detection chosen = scorer->detection(estimate.best_box);
-  MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<engine::BoxScorer> full,
-                          engine::BoxScorer::Create(*context_, K, depth, mesh, std::span(&chosen, 1),
-                                                    scorer->uses_colour() ? colour : nullptr, engine::Resolution::kFull));
-  if (twins) estimate = engine::ResolveTwins(*context_, *scorer, *full, depth, std::move(estimate), stream_id);
-  if (opt.refine.enabled) estimate = engine::RefineEstimate(opt.refine, *full, depth, std::move(estimate));
-  return estimate;
+  return engine::EstimateObject(*context_, K, depth, colour, mesh, boxes, stream_id);
 }
 
 }  // namespace mcpose

@@ -1,0 +1,205 @@
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <map>
+#include <memory>
+#include <optional>
+#include <set>
+
+#include <nlohmann/json.hpp>
+#include <spdlog/spdlog.h>
+
+#include "cli/common.h"
+#include "commands.h"
+#include "engine/pipeline.h"
+#include "io/options_json.h"
+#include "mcpose/dataset.h"
+#include "mcpose/detection.h"
+#include "mcpose/eval.h"
+#include "mcpose/results.h"
+#include "mcpose/tracker.h"
+
+namespace mcpose::cli {
+
+namespace {
+
+struct TrackArgs {
+  std::string dataset, split = "test", models, detections, out, out_json, frames;
+  int video = -1;
+  bool quiet = false;
+  EstimatorFlags flags;
+  TrackerOptions tracker;
+};
+
+// "A-B" (inclusive) or "A"; empty: every frame.
+Status ParseFrameRange(const std::string& text, int* first, int* last) {
+  *first = 0, *last = 1 << 30;
+  if (text.empty()) return Status::Ok();
+  const size_t dash = text.find('-');
+  try {
+    size_t used = 0;
+    *first = std::stoi(text.substr(0, dash), &used);
+    if (used != (dash == std::string::npos ? text.size() : dash)) throw std::invalid_argument(text);
+    *last = *first;
+    if (dash != std::string::npos) {
+      const std::string b = text.substr(dash + 1);
+      *last = std::stoi(b, &used);
+      if (used != b.size()) throw std::invalid_argument(text);
+    }
+  } catch (const std::exception&) {
+    return InvalidArgument("--frames must be A-B or A (frame numbers), got '" + text + "'");
+  }
+  if (*first < 0 || *last < *first) return InvalidArgument("--frames must be A-B with 0 <= A <= B, got '" + text + "'");
+  return Status::Ok();
+}
+
+Status RunTrack(TrackArgs& a) {
+  MCPOSE_RETURN_IF_ERROR(a.flags.Finish());
+  a.tracker.estimator = a.flags.options;
+  std::string error;
+  if (!a.tracker.IsValid(&error)) return InvalidArgument("invalid tracker options: " + error);
+  int first = 0, last = 0;
+  MCPOSE_RETURN_IF_ERROR(ParseFrameRange(a.frames, &first, &last));
+  MCPOSE_RETURN_IF_ERROR(CheckWritable(a.out));
+  if (!a.out_json.empty()) MCPOSE_RETURN_IF_ERROR(CheckWritable(a.out_json));
+  MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<Dataset> dataset, Dataset::Open(a.dataset, a.split, a.models));
+
+  // ---- The frames of the video, and each frame's boxes --------------------------------------
+  std::vector<FrameKey> frames;
+  for (const FrameKey& k : dataset->Frames())
+    if (k.scene_id == a.video && k.image_id >= first && k.image_id <= last) frames.push_back(k);
+  if (frames.empty())
+    return NotFound(a.dataset + ": no frame of video " + std::to_string(a.video) + " in the range '" + a.frames + "'");
+  std::map<FrameKey, std::map<int, std::vector<Detection>>> boxes;
+  if (!a.detections.empty()) {
+    MCPOSE_ASSIGN_OR_RETURN(std::vector<Detection> dets, ReadDetectionsJson(a.detections));
+    for (const Detection& d : dets) boxes[FrameKey{d.scene_id, d.image_id}][d.obj_id].push_back(d);
+  } else {  // tight boxes of the ground-truth visible masks
+    for (const FrameKey& k : frames) {
+      MCPOSE_ASSIGN_OR_RETURN(Frame f, dataset->LoadFrame(k));
+      for (const GtInstance& gt : f.gt) {
+        MCPOSE_ASSIGN_OR_RETURN(MaskImage mask, dataset->LoadVisibleMask(k, gt));
+        Detection d{k.scene_id, k.image_id, gt.obj_id, 1.0};
+        if (MaskBox(mask, &d) > 0) boxes[k][gt.obj_id].push_back(d);
+      }
+    }
+  }
+  const std::vector<int> known = dataset->ObjectIds();
+  std::map<int, Mesh> meshes;
+  for (const FrameKey& k : frames)
+    for (const auto& [obj_id, dets] : boxes[k]) {
+      if (!std::binary_search(known.begin(), known.end(), obj_id))
+        return InvalidArgument(a.detections + ": unknown class (category_id " + std::to_string(obj_id) + ")");
+      if (!meshes.count(obj_id)) {
+        MCPOSE_ASSIGN_OR_RETURN(Mesh m, dataset->LoadMesh(obj_id));
+        meshes.emplace(obj_id, std::move(m));
+      }
+    }
+  if (meshes.empty()) return InvalidArgument("no box of video " + std::to_string(a.video) + " in the frames asked for");
+
+  // ---- Track, frame by frame --------------------------------------------------------------
+  MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<Tracker> tracker, Tracker::Create(a.tracker));
+  using Clock = std::chrono::steady_clock;
+  std::vector<PoseResult> rows;
+  nlohmann::json steps = nlohmann::json::array();
+  std::set<int> tracked;
+  for (const FrameKey& k : frames) {
+    const auto frame_start = Clock::now();
+    MCPOSE_ASSIGN_OR_RETURN(Frame frame, dataset->LoadFrame(k));
+    std::set<int> classes = tracked;
+    for (const auto& [obj_id, dets] : boxes[k]) classes.insert(obj_id);
+    std::optional<ColourImage> colour;
+    bool wants_colour = false;
+    for (int obj_id : classes) wants_colour |= !meshes.at(obj_id).appearance.empty();
+    if (a.tracker.estimator.appearance.enabled && wants_colour) {
+      MCPOSE_ASSIGN_OR_RETURN(colour, dataset->LoadColour(frame));
+    }
+    const size_t first_row = rows.size();
+    for (int obj_id : classes) {
+      const std::vector<Detection>& dets = boxes[k][obj_id];
+      StatusOr<TrackStep> step = tracker->Track(frame.K, frame.depth, colour ? &*colour : nullptr, meshes.at(obj_id),
+                                                obj_id, dets, GroupStreamId(k.scene_id, k.image_id, obj_id));
+      if (!step.ok())
+        return Status(step.status().code(), dataset->FrameName(k) + ": obj_id " + std::to_string(obj_id) + ": " +
+                                                step.status().message());
+      if (step->lost && dets.empty()) tracked.erase(obj_id); else tracked.insert(obj_id);
+      PoseResult row;
+      row.scene_id = k.scene_id, row.im_id = k.image_id, row.obj_id = obj_id;
+      row.score = step->weight;
+      row.T_cam_obj = step->T_cam_obj;
+      rows.push_back(row);
+      nlohmann::json R = nlohmann::json::array(), t = nlohmann::json::array();
+      for (int i = 0; i < 9; ++i) R.push_back(step->T_cam_obj.R(i / 3, i % 3));
+      for (int i = 0; i < 3; ++i) t.push_back(1000 * step->T_cam_obj.t(i));
+      steps.push_back({{"scene_id", k.scene_id}, {"im_id", k.image_id}, {"obj_id", obj_id},
+                       {"name", dataset->ObjectName(obj_id)}, {"initialised", step->initialised},
+                       {"lost", step->lost}, {"weight", step->weight}, {"fit", step->fit}, {"visible", step->visible}, {"iterations", step->iterations},
+                       {"box", {step->box.x, step->box.y, step->box.w, step->box.h}}, {"ms", step->ms},
+                       {"R", R}, {"t_mm", t}});
+      if (!a.quiet)
+        spdlog::info("{} obj {:2d} {:<24} {} w {:.3f} fit {:.3f} vis {:.2f} it {:2d} {:.1f} ms", dataset->FrameName(k), obj_id,
+                     dataset->ObjectName(obj_id),
+                     step->lost ? (step->initialised ? "lost, restarted" : "lost") : step->initialised ? "started" : "tracked",
+                     step->weight, step->fit, step->visible, step->iterations, step->ms);
+    }
+    const double frame_s = std::chrono::duration<double>(Clock::now() - frame_start).count();
+    for (size_t r = first_row; r < rows.size(); ++r) rows[r].time_s = frame_s;
+  }
+
+  // ---- Outputs, written only after everything succeeded -------------------------------------
+  if (!a.out_json.empty()) {
+    nlohmann::json tracker_options = {
+        {"samples", a.tracker.samples}, {"iterations", a.tracker.iterations}, {"stop_weight", a.tracker.stop_weight},
+        {"motion_sigma_t_m", a.tracker.motion_sigma_t_m}, {"motion_sigma_r_rad", a.tracker.motion_sigma_r_rad},
+        {"box_margin", a.tracker.box_margin}, {"refine_iterations", a.tracker.refine_iterations},
+        {"lost_fit", a.tracker.lost_fit}, {"lost_visible", a.tracker.lost_visible},
+        {"estimator", io::OptionsToJson(a.tracker.estimator)}};
+    nlohmann::json doc = {{"dataset", a.dataset}, {"video", a.video}, {"options", tracker_options}, {"steps", steps}};
+    MCPOSE_RETURN_IF_ERROR(WriteFileAtomically(a.out_json, doc.dump(1) + "\n"));
+  }
+  std::sort(rows.begin(), rows.end(), [](const PoseResult& x, const PoseResult& y) {
+    return std::tie(x.scene_id, x.im_id, x.obj_id) < std::tie(y.scene_id, y.im_id, y.obj_id);
+  });
+  return WriteResultsCsv(a.out, rows);
+}
+
+}  // namespace
+
+void AddTrackCommand(CLI::App& app, Status* status) {
+  auto args = std::make_shared<TrackArgs>();
+  TrackerOptions& t = args->tracker;
+  CLI::App* cmd = app.add_subcommand(
+      "track", "Follow the objects through the frames of one video: each frame starts from the last one's samples");
+  cmd->add_option("--dataset", args->dataset, "Dataset root (YCB-Video native or BOP layout)")->required();
+  cmd->add_option("--split", args->split, "BOP split folder")->capture_default_str();
+  cmd->add_option("--models", args->models, "Models folder to read meshes (and their colour) from");
+  cmd->add_option("--video", args->video, "scene_id of the video")->required();
+  cmd->add_option("--frames", args->frames, "Frames A-B (inclusive) or A; default: every frame of the video");
+  cmd->add_option("--detections", args->detections,
+                  "BOP detections JSON that starts (and restarts lost) tracks; default: tight boxes of the ground-truth "
+                  "visible masks");
+  cmd->add_option("--out", args->out, "Results CSV, one row per (frame, object)")->required();
+  cmd->add_option("--out-json", args->out_json, "Per (frame, object): started, tracked or lost, weight, fit, iterations, box, time");
+  cmd->add_option("--track-samples", t.samples, "Samples of a tracked frame")->capture_default_str();
+  cmd->add_option("--track-iterations", t.iterations, "Filter iterations of a tracked frame")->capture_default_str();
+  cmd->add_option("--stop-weight", t.stop_weight, "A tracked frame stops when its mean weight exceeds this")->capture_default_str();
+  cmd->add_option("--motion-sigma-t", t.motion_sigma_t_m, "Motion model: translation noise per frame, metres")->capture_default_str();
+  cmd->add_option("--motion-sigma-r", t.motion_sigma_r_rad, "Motion model: rotation noise per frame, radians")->capture_default_str();
+  cmd->add_option("--box-margin", t.box_margin, "A tracked frame's box: the last silhouette grown by this fraction a side")
+      ->capture_default_str();
+  cmd->add_option("--track-refine-iterations", t.refine_iterations,
+                  "Refinement steps in a tracked frame (0: none)")->capture_default_str();
+  cmd->add_option("--lost-fit", t.lost_fit,
+                  "The track is lost where the share of the answer's visible silhouette that the depth confirms is "
+                  "below this")
+      ->capture_default_str();
+  cmd->add_option("--lost-visible", t.lost_visible,
+                  "The track is lost where the share of the answer's silhouette not hidden behind nearer surfaces is "
+                  "below this")
+      ->capture_default_str();
+  AddEstimatorFlags(cmd, kAllEstimatorFlags, &args->flags);
+  cmd->add_flag("-q,--quiet", args->quiet, "No progress output");
+  cmd->callback([args, status] { *status = RunTrack(*args); });
+}
+
+}  // namespace mcpose::cli
