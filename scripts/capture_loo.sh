@@ -1,17 +1,18 @@
 #!/usr/bin/env bash
 # Captures, for real video V of a YCB-Video dataset, every object's appearance from the real
 # frames of all other videos and the synthetic frames (LOO_SYNTHETIC=0 leaves those out), so that
-# no colour used on V comes from V. Writes the models folder out/appearance/not_V (V as 4 digits)
-# and the capture's report beside it; CAPTURE_OPTIONS passes options to capture-appearance.
+# no colour used on V comes from V. Writes the models folder $APPEARANCE_DIR/not_V (V as 4 digits;
+# default out/appearance) and the capture's report beside it; CAPTURE_OPTIONS passes options to
+# capture-appearance.
 # Usage: scripts/capture_loo.sh DATASET VIDEO
 # Needs build/mcpose (scripts/build.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-if [ $# -ne 2 ]; then sed -n '2,7p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2; fi
+if [ $# -ne 2 ]; then sed -n '2,8p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2; fi
 DATASET=$1
 v=$(printf %04d "$((10#$2))")
 [ -d "$DATASET/data/$v" ] || { echo "capture_loo: $DATASET has no video $v (no data/$v)" >&2; exit 1; }
-work=out/appearance
+work=${APPEARANCE_DIR:-out/appearance}
 mkdir -p "$work"
 list="$work/frames_not_$v.txt"
 : > "$list"

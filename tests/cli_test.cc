@@ -668,6 +668,18 @@ TEST(CliColour, CaptureWritesAModelsFolderThatEstimateUses) {
   EXPECT_EQ(bad.exit_code, 1);
   EXPECT_NE(bad.err.find("bad.txt: line 2"), std::string::npos) << bad.err;
   EXPECT_FALSE(fs::exists(dir / "out2"));
+  // Replacing own colour: the cracker box, which these frames do not show, loses its texture
+  // instead of keeping it.
+  const CliResult rep = RunCli("capture-appearance --replace-own-colour --dataset " + testing::YcbvDir() +
+                                   " --frames " + (dir / "frames.txt").string() + " --out " + (dir / "rep").string(),
+                               dir);
+  ASSERT_EQ(rep.exit_code, 0) << rep.err;
+  EXPECT_NE(rep.out.find("003_cracker_box          none"), std::string::npos) << rep.out;
+  const std::string obj = ReadText(dir / "rep/003_cracker_box/textured_simple.obj");
+  EXPECT_EQ(obj.find("mtllib"), std::string::npos);
+  EXPECT_NE(obj.find("\nf "), std::string::npos);
+  EXPECT_FALSE(fs::exists(dir / "rep/003_cracker_box/texture_map.jpg"));
+  EXPECT_TRUE(fs::exists(dir / "rep/003_cracker_box/points.xyz"));
 }
 
 // ---- mcpose track -----------------------------------------------------------------------------

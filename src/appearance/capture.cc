@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <optional>
 #include <sstream>
 
@@ -249,6 +250,16 @@ std::string ObjWithCapturedMaterial(const std::string& text, const std::string& 
   return out.str();
 }
 
+// The OBJ without its material lines: the model's geometry with no colour.
+std::string ObjWithoutMaterial(const std::string& text) {
+  std::ostringstream out;
+  for (std::string_view line : io::SplitLines(text)) {
+    const std::string_view trimmed = io::Trim(line);
+    if (!trimmed.starts_with("mtllib") && !trimmed.starts_with("usemtl")) out << line << "\n";
+  }
+  return out.str();
+}
+
 Status CopyFile(const std::string& from, const std::string& to) {
   std::error_code ec;
   fs::copy_file(from, to, fs::copy_options::overwrite_existing, ec);
@@ -293,12 +304,14 @@ StatusOr<std::vector<ObjectCapture>> CaptureDataset(const Dataset& dataset, std:
   // ---- Capture each object ---------------------------------------------------------------
   std::vector<ObjectCapture> report;
   std::map<int, Mesh> meshes;
+  std::set<int> own_colour;  // objects whose model has colour of its own
   for (int obj_id : dataset.ObjectIds()) {
     ObjectCapture oc;
     oc.obj_id = obj_id;
     oc.name = dataset.ObjectName(obj_id);
     MCPOSE_ASSIGN_OR_RETURN(Mesh mesh, dataset.LoadMesh(obj_id));
     const bool own = !mesh.appearance.empty();
+    if (own) own_colour.insert(obj_id);
     if (own && !replace_own_colour) {
       oc.source = ObjectCapture::Source::kOwnColour;
     } else {
@@ -314,6 +327,9 @@ StatusOr<std::vector<ObjectCapture>> CaptureDataset(const Dataset& dataset, std:
           oc.source = ObjectCapture::Source::kCaptured;
         }
       }
+      // Replaced, but no frame showed it: its own colour is dropped all the same, so that no
+      // appearance but the listed frames' reaches the models folder.
+      if (oc.source == ObjectCapture::Source::kNone) mesh.appearance = {};
     }
     meshes.emplace(obj_id, std::move(mesh));
     report.push_back(oc);
@@ -328,7 +344,8 @@ StatusOr<std::vector<ObjectCapture>> CaptureDataset(const Dataset& dataset, std:
     const std::string from = dataset.ModelPath(oc.obj_id);
     if (!ycbv) {
       const std::string to = out_dir + "/" + fs::path(from).filename().string();
-      if (oc.source == ObjectCapture::Source::kCaptured) {
+      const bool dropped = oc.source == ObjectCapture::Source::kNone && own_colour.count(oc.obj_id);
+      if (oc.source == ObjectCapture::Source::kCaptured || dropped) {
         MCPOSE_RETURN_IF_ERROR(io::WritePlyMesh(to, meshes.at(oc.obj_id), 1000.0));
       } else {
         MCPOSE_RETURN_IF_ERROR(CopyFile(from, to));
@@ -338,6 +355,13 @@ StatusOr<std::vector<ObjectCapture>> CaptureDataset(const Dataset& dataset, std:
     const std::string dir = out_dir + "/" + oc.name;
     fs::create_directories(dir, ec);
     if (ec) return NotFound(dir + ": cannot create folder (" + ec.message() + ")");
+    if (oc.source == ObjectCapture::Source::kNone && own_colour.count(oc.obj_id)) {
+      // Its own colour dropped: the OBJ without its material, and its points.
+      MCPOSE_ASSIGN_OR_RETURN(std::string obj_text, io::ReadFileToString(from + "/textured_simple.obj"));
+      MCPOSE_RETURN_IF_ERROR(io::WriteFileAtomic(dir + "/textured_simple.obj", ObjWithoutMaterial(obj_text)));
+      if (fs::exists(from + "/points.xyz", ec)) MCPOSE_RETURN_IF_ERROR(CopyFile(from + "/points.xyz", dir + "/points.xyz"));
+      continue;
+    }
     if (oc.source != ObjectCapture::Source::kCaptured) {
       // The model's own files as they are (with its colour, if it has some).
       for (const fs::directory_entry& e : fs::directory_iterator(from, ec))

@@ -64,7 +64,8 @@ struct ObjectCapture {
 // a material naming texture_map.png (RGBA, alpha 0 where unseen) and points.xyz; BOP:
 // obj_NNNNNN.ply with vertex colours (red green blue alpha) and models_info.json. Objects whose
 // model has colour of its own keep it (copied as they are) unless `replace_own_colour`; objects
-// no frame shows are copied without colour. Nothing is written unless everything was read.
+// no frame shows are copied without colour (with `replace_own_colour`, their own colour dropped
+// too: the OBJ without its material, the PLY without vertex colours). Nothing is written unless everything was read.
 StatusOr<std::vector<ObjectCapture>> CaptureDataset(const Dataset& dataset, std::span<const FrameKey> frames,
                                                     const CaptureOptions& options, bool replace_own_colour,
                                                     const std::string& out_dir);
