@@ -13,5 +13,6 @@ void AddDetectionsFromGtCommand(CLI::App& app, Status* status);
 void AddEvalCommand(CLI::App& app, Status* status);
 void AddBenchCommand(CLI::App& app, Status* status);
 void AddCaptureCommand(CLI::App& app, Status* status);
+void AddReportCommand(CLI::App& app, Status* status);
 
 }  // namespace mcpose::cli

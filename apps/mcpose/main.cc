@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   mcpose::cli::AddEvalCommand(app, &status);
   mcpose::cli::AddBenchCommand(app, &status);
   mcpose::cli::AddCaptureCommand(app, &status);
+  mcpose::cli::AddReportCommand(app, &status);
   spdlog::set_pattern("[%H:%M:%S] %v");
   try {
     app.parse(argc, argv);

@@ -1,0 +1,201 @@
+// The visual report on real YCB-Video frames: the ground truth drawn by the report's renderer
+// lands on the frame's label masks, and the report of the main job's 26 frames, made by the
+// command line from an estimate run, opens in a headless browser with every image present.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <regex>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "cli_run.h"
+#include "io/png_io.h"
+#include "mcpose/dataset.h"
+#include "report/overlay.h"
+#include "test_data.h"
+
+namespace mcpose {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::CliResult;
+using testing::ReadText;
+using testing::RunCli;
+
+constexpr const char* kChromium = "/usr/bin/chromium";
+
+int Count(const std::string& text, const std::string& needle) {
+  int n = 0;
+  for (size_t at = text.find(needle); at != std::string::npos; at = text.find(needle, at + 1)) ++n;
+  return n;
+}
+
+// Each ground-truth silhouette the report draws, against the frame's visible mask: the visible
+// part lies inside the silhouette for every object, and for an object no other ground-truth
+// object hides (its silhouette is its visible part), the two coincide: IoU >= 0.9, and the
+// drawn outline runs along the mask's border. Their median IoU tells the camera convention
+// apart: 0.997 with pixel centres at integer coordinates, 0.983 with centres at half-integers.
+TEST(ReportReal, GroundTruthSilhouettesMatchTheLabelMasks) {
+  auto ds = Dataset::Open(testing::YcbvDir());
+  ASSERT_TRUE(ds.ok()) << ds.status().ToString();
+  std::vector<double> unoccluded_iou;
+  for (const FrameKey key : {FrameKey{0, 1}, FrameKey{1, 1}, FrameKey{2, 1}, FrameKey{3, 138}, FrameKey{49, 1}}) {
+    auto frame = (*ds)->LoadFrame(key);
+    ASSERT_TRUE(frame.ok()) << frame.status().ToString();
+    std::vector<DepthImage> rendered;
+    for (const GtInstance& gt : frame->gt) {
+      auto mesh = (*ds)->LoadMesh(gt.obj_id);
+      ASSERT_TRUE(mesh.ok()) << mesh.status().ToString();
+      rendered.push_back(report::RenderDepth(*mesh, gt.T_cam_obj, frame->K));
+    }
+    for (size_t g = 0; g < frame->gt.size(); ++g) {
+      auto mask = (*ds)->LoadVisibleMask(key, frame->gt[g]);
+      ASSERT_TRUE(mask.ok()) << mask.status().ToString();
+      const MaskImage silhouette = report::Silhouette(rendered[g]);
+      int inter = 0, uni = 0, visible = 0, hidden = 0, drawn = 0;
+      for (size_t i = 0; i < silhouette.values.size(); ++i) {
+        const bool s = silhouette.values[i] != 0, m = mask->values[i] != 0;
+        inter += s && m, uni += s || m, visible += m;
+        if (!s) continue;
+        ++drawn;
+        for (size_t o = 0; o < rendered.size(); ++o)
+          if (o != g && rendered[o].depth_m[i] > 0 && rendered[o].depth_m[i] < rendered[g].depth_m[i]) {
+            ++hidden;
+            break;
+          }
+      }
+      if (visible == 0) continue;  // out of view: the mug of 0003/000138
+      const double inside = static_cast<double>(inter) / visible, iou = static_cast<double>(inter) / uni;
+      const double hidden_share = static_cast<double>(hidden) / drawn;
+      std::printf("  %d/%d obj %2d: visible inside the silhouette %.3f, IoU %.3f, hidden by other objects %.3f\n",
+                  key.scene_id, key.image_id, frame->gt[g].obj_id, inside, iou, hidden_share);
+      EXPECT_GE(inside, 0.95) << key.scene_id << "/" << key.image_id << " obj " << frame->gt[g].obj_id;
+      if (hidden_share > 0.01) continue;
+      unoccluded_iou.push_back(iou);
+      EXPECT_GE(iou, 0.9) << key.scene_id << "/" << key.image_id << " obj " << frame->gt[g].obj_id;
+      // The outline the report draws lies on the mask's border, to a pixel.
+      const MaskImage outline = report::Outline(silhouette), border = report::Outline(*mask);
+      int on = 0, all = 0;
+      for (int y = 0; y < outline.height; ++y)
+        for (int x = 0; x < outline.width; ++x) {
+          if (!outline.at(x, y)) continue;
+          ++all;
+          bool near = false;
+          for (int dy = -1; dy <= 1 && !near; ++dy)
+            for (int dx = -1; dx <= 1 && !near; ++dx) {
+              const int xx = x + dx, yy = y + dy;
+              near = xx >= 0 && yy >= 0 && xx < border.width && yy < border.height && border.at(xx, yy);
+            }
+          on += near;
+        }
+      EXPECT_GE(static_cast<double>(on) / all, 0.9) << key.scene_id << "/" << key.image_id << " obj "
+                                                     << frame->gt[g].obj_id;
+    }
+  }
+  ASSERT_GE(unoccluded_iou.size(), 8u);  // the comparison ran on enough objects
+  std::nth_element(unoccluded_iou.begin(), unoccluded_iou.begin() + unoccluded_iou.size() / 2, unoccluded_iou.end());
+  EXPECT_GE(unoccluded_iou[unoccluded_iou.size() / 2], 0.99);
+}
+
+// Mean and variance of the grey values of an image.
+std::pair<double, double> GreyStats(const ColourImage& image) {
+  double sum = 0, sum2 = 0;
+  const size_t n = static_cast<size_t>(image.width) * image.height;
+  for (size_t i = 0; i < n; ++i) {
+    const uint8_t* p = image.rgba.data() + 4 * i;
+    const double g = 0.299 * p[0] + 0.587 * p[1] + 0.114 * p[2];
+    sum += g, sum2 += g * g;
+  }
+  const double mean = sum / n;
+  return {mean, sum2 / n - mean * mean};
+}
+
+double Seconds(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// The main job's frames (every real frame, its detector-like boxes with distractors), estimated
+// with few samples and iterations to stay quick, then reported and opened in Chromium.
+TEST(ReportReal, MainJobReportOpensInAHeadlessBrowser) {
+  if (!fs::exists(kChromium)) GTEST_SKIP() << kChromium << " is not installed (scripts/install_deps.sh installs it)";
+  const fs::path dir = testing::TempDir("report_main_job");
+  const std::string data = " --dataset " + testing::YcbvDir();
+  const std::string dets = (dir / "dets.json").string(), csv = (dir / "results.csv").string(),
+                    detail = (dir / "results.json").string();
+  CliResult r = RunCli("detections-from-gt" + data + " --out " + dets + " --jitter 0.1 --distractors 0.3 --seed 0", dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = RunCli("estimate" + data + " --detections " + dets + " --out " + csv + " --out-json " + detail +
+                 " --iterations 3 --samples 64 --threads 2 -q",
+             dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+
+  const fs::path out = dir / "report";
+  auto start = std::chrono::steady_clock::now();
+  r = RunCli("report" + data + " --results " + csv + " --detections " + dets + " --detail " + detail +
+                 " --gt --out " + out.string(),
+             dir);
+  const double report_s = Seconds(start);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("report: 26 images, 108 objects"), std::string::npos) << r.out;
+
+  // The page: one section per frame, one card per object, each with its convergence plot; no
+  // script and nothing from the network.
+  const std::string html = ReadText(out / "index.html");
+  EXPECT_EQ(Count(html, "<h2 id=\"img-"), 26);
+  EXPECT_EQ(Count(html, "<div class=\"obj\""), 108);
+  EXPECT_EQ(Count(html, ">convergence</text>"), 108);
+  EXPECT_EQ(Count(html, "<script"), 0);
+  EXPECT_EQ(Count(html, "http"), Count(html, "xmlns=\"http://www.w3.org/2000/svg\""));
+  EXPECT_GE(Count(html, "stroke=\"#ff1744\""), 1);  // distractor boxes are marked
+
+  // Every image the page names exists in the folder, and every file there is used.
+  std::set<std::string> sources;
+  const std::regex src_attr("src=\"([^\"]+)\"");
+  for (auto it = std::sregex_iterator(html.begin(), html.end(), src_attr); it != std::sregex_iterator(); ++it)
+    sources.insert((*it)[1].str());
+  EXPECT_GE(sources.size(), 26u + 108u);  // frames and residual maps
+  for (const std::string& s : sources) {
+    EXPECT_FALSE(fs::path(s).is_absolute()) << s;
+    EXPECT_TRUE(fs::is_regular_file(out / s)) << "missing image " << s;
+  }
+  int64_t bytes = 0;
+  for (const auto& f : fs::recursive_directory_iterator(out)) {
+    if (!f.is_regular_file()) continue;
+    bytes += static_cast<int64_t>(f.file_size());
+    const std::string rel = fs::relative(f.path(), out).string();
+    if (rel != "index.html") {
+      EXPECT_TRUE(sources.contains(rel)) << "unused file " << rel;
+    }
+  }
+  EXPECT_LT(bytes, 30'000'000);
+
+  // The browser: a screenshot of the page as loaded from disk, not blank.
+  const fs::path shot = dir / "screenshot.png";
+  start = std::chrono::steady_clock::now();
+  r = testing::RunProgram(std::string("timeout 120 ") + kChromium,
+                          "--headless --no-sandbox --disable-gpu --user-data-dir=" + (dir / "chromium").string() +
+                              " --screenshot=" + shot.string() + " --window-size=1280,2000 file://" +
+                              fs::absolute(out / "index.html").string(),
+                          dir);
+  const double browser_s = Seconds(start);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto image = io::ReadColourPng(shot.string());
+  ASSERT_TRUE(image.ok()) << image.status().ToString();
+  EXPECT_EQ(image->width, 1280);
+  EXPECT_EQ(image->height, 2000);
+  const auto [mean, variance] = GreyStats(*image);
+  // A blank page has variance 0; this page without its images (text, tables, plots) about
+  // 1400, with the first frame in view about 4800.
+  EXPECT_GT(variance, 2500) << "mean grey " << mean;
+  std::printf("  report of 26 frames: %.1f s, %.1f MB in %zu images; chromium screenshot %.1f s; grey mean %.0f, "
+              "variance %.0f\n",
+              report_s, bytes / 1e6, sources.size(), browser_s, mean, variance);
+}
+
+}  // namespace
+}  // namespace mcpose
