@@ -38,8 +38,9 @@ Status RunReport(const ReportArgs& a) {
   input.eval.auc_max_m = a.auc_max_m;
   MCPOSE_ASSIGN_OR_RETURN(report::ReportSummary summary, report::WriteReport(*dataset, input, a.out));
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::printf("report: %d images, %d objects, %.1f MB in %.1f s: open %s/index.html\n", summary.images,
-              summary.objects, static_cast<double>(summary.bytes) / 1e6, seconds, a.out.c_str());
+  std::printf("report: %d image%s, %d objects, %.1f MB in %.1f s: open %s/index.html\n", summary.images,
+              summary.images == 1 ? "" : "s", summary.objects, static_cast<double>(summary.bytes) / 1e6, seconds,
+              a.out.c_str());
   return Status::Ok();
 }
 

@@ -127,14 +127,37 @@ struct Model {
   std::vector<Section> sections;
 };
 
+// Every results row and box names an image and a class of the dataset; the error names the file.
+Status CheckAgainstDataset(const Dataset& dataset, const ReportInput& in) {
+  std::set<FrameKey> frames;
+  for (const FrameKey& k : dataset.Frames()) frames.insert(k);
+  const std::vector<int> ids = dataset.ObjectIds();
+  const std::set<int> classes(ids.begin(), ids.end());
+  const auto check = [&](const std::string& where, int scene_id, int image_id, int obj_id) {
+    if (!frames.contains(FrameKey{scene_id, image_id}))
+      return InvalidArgument(where + ": the dataset " + dataset.root() + " has no such image");
+    if (!classes.contains(obj_id))
+      return InvalidArgument(where + ": obj_id " + std::to_string(obj_id) + " is not a class of the dataset " +
+                             dataset.root());
+    return Status::Ok();
+  };
+  for (const PoseResult& r : in.results)
+    MCPOSE_RETURN_IF_ERROR(check(in.results_path + ": a row of scene_id " + std::to_string(r.scene_id) + ", im_id " +
+                                     std::to_string(r.im_id),
+                                 r.scene_id, r.im_id, r.obj_id));
+  if (in.detections)
+    for (size_t i = 0; i < in.detections->size(); ++i) {
+      const Detection& d = (*in.detections)[i];
+      MCPOSE_RETURN_IF_ERROR(check(in.detections_path + ": detection " + std::to_string(i) + " (scene_id " +
+                                       std::to_string(d.scene_id) + ", image_id " + std::to_string(d.image_id) + ")",
+                                   d.scene_id, d.image_id, d.obj_id));
+    }
+  return Status::Ok();
+}
+
 Status CollectSections(Model* m) {
   const ReportInput& in = *m->input;
-  std::set<FrameKey> known;
-  for (const FrameKey& k : m->dataset->Frames()) known.insert(k);
   for (const PoseResult& r : in.results) {
-    if (!known.contains(FrameKey{r.scene_id, r.im_id}))
-      return InvalidArgument(in.results_path + ": a row of scene_id " + std::to_string(r.scene_id) + ", im_id " +
-                             std::to_string(r.im_id) + ": the dataset " + m->dataset->root() + " has no such image");
     auto [it, inserted] = m->best.try_emplace(ResultKey{r.scene_id, r.im_id, r.obj_id}, &r);
     if (!inserted && r.score > it->second->score) it->second = &r;
   }
@@ -624,6 +647,7 @@ bool IsDistractor(const Detection& box, std::span<const MaskImage> visible_masks
 StatusOr<ReportSummary> WriteReport(const Dataset& dataset, const ReportInput& input, const std::string& out_dir) {
   const fs::path out = fs::path(out_dir).lexically_normal();
   MCPOSE_RETURN_IF_ERROR(CheckOutFolder(out));
+  MCPOSE_RETURN_IF_ERROR(CheckAgainstDataset(dataset, input));
   Model m;
   m.dataset = &dataset;
   m.input = &input;

@@ -43,8 +43,8 @@ struct ReportSummary {
 // `out_dir` at the end, so a failed run leaves no partial report. An existing `out_dir` must be
 // an earlier report (it holds index.html) or empty; its parent folder must exist. Errors name
 // the file and the problem: a detail entry whose pose differs from the results row of its
-// object (another run), a pose or box of an image the dataset does not have, an unreadable
-// frame or model.
+// object (another run), a results row or box of an image or class the dataset does not have,
+// an unreadable frame or model.
 StatusOr<ReportSummary> WriteReport(const Dataset& dataset, const ReportInput& input, const std::string& out_dir);
 
 // The accuracy curve acc(x) = share of errors < x on [0, max_m] as a staircase of (x, share)

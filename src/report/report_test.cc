@@ -163,7 +163,7 @@ TEST(Report, RefusesDetailOfAnotherRunAndWritesNothing) {
   EXPECT_FALSE(fs::exists(out.string() + ".tmp"));
 }
 
-TEST(Report, RefusesResultsOfAnImageTheDatasetLacks) {
+TEST(Report, RefusesResultsAndBoxesOfAnImageOrClassTheDatasetLacks) {
   FakeRun run;
   run.input.results[0].im_id = 7;
   const fs::path out = testing::TempDir("report_unknown_image") / "report";
@@ -171,6 +171,25 @@ TEST(Report, RefusesResultsOfAnImageTheDatasetLacks) {
   ASSERT_FALSE(summary.ok());
   EXPECT_EQ(summary.status().message(),
             "results.csv: a row of scene_id 1, im_id 7: the dataset fake_root has no such image");
+  EXPECT_FALSE(fs::exists(out));
+
+  run.input.results[0].im_id = 2;
+  run.input.results[0].obj_id = 4;
+  summary = WriteReport(run.dataset, run.input, out.string());
+  ASSERT_FALSE(summary.ok());
+  EXPECT_EQ(summary.status().message(),
+            "results.csv: a row of scene_id 1, im_id 2: obj_id 4 is not a class of the dataset fake_root");
+  EXPECT_FALSE(fs::exists(out));
+
+  run.input.results[0].obj_id = 3;
+  Detection box;
+  box.scene_id = 1, box.image_id = 3, box.obj_id = 3;
+  run.input.detections = std::vector<Detection>{box};
+  run.input.detections_path = "dets.json";
+  summary = WriteReport(run.dataset, run.input, out.string());
+  ASSERT_FALSE(summary.ok());
+  EXPECT_EQ(summary.status().message(),
+            "dets.json: detection 0 (scene_id 1, image_id 3): the dataset fake_root has no such image");
   EXPECT_FALSE(fs::exists(out));
 }
 
