@@ -36,16 +36,20 @@ int Count(const std::string& text, const std::string& needle) {
   return n;
 }
 
-// Each ground-truth silhouette the report draws, against the frame's visible mask: the visible
-// part lies inside the silhouette for every object, and for an object no other ground-truth
-// object hides (its silhouette is its visible part), the two coincide: IoU >= 0.9, and the
-// drawn outline runs along the mask's border. Their median IoU tells the camera convention
-// apart: 0.997 with pixel centres at integer coordinates, 0.983 with centres at half-integers.
+// Each ground-truth silhouette the report draws, against the frame's visible (label) mask, on
+// every real frame. Where the ground-truth objects hide each other, the silhouette's visible
+// part (the pixels where this object's render is the nearest) is compared: IoU >= 0.9 for every
+// object in view. For an object no other hides, the silhouette itself is compared (IoU >= 0.9)
+// and the outline the report draws runs along the mask's border. The median IoU of those tells
+// the camera convention apart: 0.997 with pixel centres at integer coordinates, 0.983 with
+// centres at half-integers.
 TEST(ReportReal, GroundTruthSilhouettesMatchTheLabelMasks) {
   auto ds = Dataset::Open(testing::YcbvDir());
   ASSERT_TRUE(ds.ok()) << ds.status().ToString();
   std::vector<double> unoccluded_iou;
-  for (const FrameKey key : {FrameKey{0, 1}, FrameKey{1, 1}, FrameKey{2, 1}, FrameKey{3, 138}, FrameKey{49, 1}}) {
+  double min_visible_iou = 1;
+  int compared = 0;
+  for (const FrameKey& key : (*ds)->Frames()) {
     auto frame = (*ds)->LoadFrame(key);
     ASSERT_TRUE(frame.ok()) << frame.status().ToString();
     std::vector<DepthImage> rendered;
@@ -55,30 +59,30 @@ TEST(ReportReal, GroundTruthSilhouettesMatchTheLabelMasks) {
       rendered.push_back(report::RenderDepth(*mesh, gt.T_cam_obj, frame->K));
     }
     for (size_t g = 0; g < frame->gt.size(); ++g) {
+      const std::string what = (*ds)->FrameName(key) + " obj " + std::to_string(frame->gt[g].obj_id);
       auto mask = (*ds)->LoadVisibleMask(key, frame->gt[g]);
       ASSERT_TRUE(mask.ok()) << mask.status().ToString();
       const MaskImage silhouette = report::Silhouette(rendered[g]);
-      int inter = 0, uni = 0, visible = 0, hidden = 0, drawn = 0;
+      int inter = 0, uni = 0, visible = 0, drawn = 0, hidden = 0, front_inter = 0, front_uni = 0;
       for (size_t i = 0; i < silhouette.values.size(); ++i) {
         const bool s = silhouette.values[i] != 0, m = mask->values[i] != 0;
-        inter += s && m, uni += s || m, visible += m;
-        if (!s) continue;
-        ++drawn;
-        for (size_t o = 0; o < rendered.size(); ++o)
-          if (o != g && rendered[o].depth_m[i] > 0 && rendered[o].depth_m[i] < rendered[g].depth_m[i]) {
-            ++hidden;
-            break;
-          }
+        bool front = s;  // drawn here and nearer than every other ground-truth object
+        for (size_t o = 0; o < rendered.size() && front; ++o)
+          front = o == g || !(rendered[o].depth_m[i] > 0 && rendered[o].depth_m[i] < rendered[g].depth_m[i]);
+        inter += s && m, uni += s || m, visible += m, drawn += s, hidden += s && !front;
+        front_inter += front && m, front_uni += front || m;
       }
-      if (visible == 0) continue;  // out of view: the mug of 0003/000138
+      if (visible == 0) continue;  // out of view: nothing to compare
+      ++compared;
       const double inside = static_cast<double>(inter) / visible, iou = static_cast<double>(inter) / uni;
+      const double visible_iou = static_cast<double>(front_inter) / front_uni;
       const double hidden_share = static_cast<double>(hidden) / drawn;
-      std::printf("  %d/%d obj %2d: visible inside the silhouette %.3f, IoU %.3f, hidden by other objects %.3f\n",
-                  key.scene_id, key.image_id, frame->gt[g].obj_id, inside, iou, hidden_share);
-      EXPECT_GE(inside, 0.95) << key.scene_id << "/" << key.image_id << " obj " << frame->gt[g].obj_id;
+      min_visible_iou = std::min(min_visible_iou, visible_iou);
+      EXPECT_GE(inside, 0.95) << what;
+      EXPECT_GE(visible_iou, 0.9) << what << ", hidden share " << hidden_share;
       if (hidden_share > 0.01) continue;
       unoccluded_iou.push_back(iou);
-      EXPECT_GE(iou, 0.9) << key.scene_id << "/" << key.image_id << " obj " << frame->gt[g].obj_id;
+      EXPECT_GE(iou, 0.9) << what;
       // The outline the report draws lies on the mask's border, to a pixel.
       const MaskImage outline = report::Outline(silhouette), border = report::Outline(*mask);
       int on = 0, all = 0;
@@ -94,13 +98,16 @@ TEST(ReportReal, GroundTruthSilhouettesMatchTheLabelMasks) {
             }
           on += near;
         }
-      EXPECT_GE(static_cast<double>(on) / all, 0.9) << key.scene_id << "/" << key.image_id << " obj "
-                                                     << frame->gt[g].obj_id;
+      EXPECT_GE(static_cast<double>(on) / all, 0.9) << what;
     }
   }
-  ASSERT_GE(unoccluded_iou.size(), 8u);  // the comparison ran on enough objects
-  std::nth_element(unoccluded_iou.begin(), unoccluded_iou.begin() + unoccluded_iou.size() / 2, unoccluded_iou.end());
-  EXPECT_GE(unoccluded_iou[unoccluded_iou.size() / 2], 0.99);
+  EXPECT_EQ(compared, 108);  // every instance of the main job is in view
+  ASSERT_GE(unoccluded_iou.size(), 20u);  // the convention check ran on enough objects
+  std::sort(unoccluded_iou.begin(), unoccluded_iou.end());
+  const double median = unoccluded_iou[unoccluded_iou.size() / 2];
+  std::printf("  %d objects: visible-part IoU min %.3f; %zu unhidden: silhouette IoU min %.3f, median %.3f\n",
+              compared, min_visible_iou, unoccluded_iou.size(), unoccluded_iou.front(), median);
+  EXPECT_GE(median, 0.99);
 }
 
 // Mean and variance of the grey values of an image.
