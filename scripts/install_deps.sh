@@ -11,6 +11,7 @@ PACKAGES=(
   libhwy-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libembree-dev libosmesa6-dev
+  chromium fonts-dejavu-core pngquant
 )
 missing=()
 for p in "${PACKAGES[@]}"; do

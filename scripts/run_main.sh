@@ -4,10 +4,12 @@
 # Monte-Carlo estimator with default options twice: with colour, leave-one-video-out (each
 # video's objects coloured only from the other videos and the synthetic frames;
 # scripts/estimate_loo.sh), and depth only (--appearance off). Prints the per-object accuracy
-# of both side by side.
+# of both side by side, and writes the HTML report of the colour run (mcpose report) to
+# out/report/.
 # Usage: scripts/run_main.sh [extra `mcpose estimate` options for both runs, e.g. --threads 2]
 # Outputs: out/detections.json; with colour out/results.csv, out/results.json, out/eval.json;
-# depth only out/results_depth.csv, out/eval_depth.json; the captured models in out/appearance/.
+# depth only out/results_depth.csv, out/eval_depth.json; the captured models in out/appearance/;
+# the report out/report/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 DATA="${MCPOSE_DATA_DIR:-$(cd .. && pwd)/shared/data}"
@@ -22,3 +24,6 @@ scripts/estimate_loo.sh "$DATA/ycbv" out/detections.json out/results.csv --out-j
 ./build/mcpose eval --dataset "$DATA/ycbv" --results out/results.csv --json out/eval.json > /dev/null
 ./build/mcpose eval --dataset "$DATA/ycbv" --results out/results_depth.csv --json out/eval_depth.json > /dev/null
 scripts/accuracy_table.py "colour:out/eval.json" "depth:out/eval_depth.json"
+./build/mcpose report --dataset "$DATA/ycbv" --results out/results.csv --detections out/detections.json \
+  --detail out/results.json --gt --out out/report
+echo "run_main: the report is $(pwd)/out/report/index.html (open it in a browser)"

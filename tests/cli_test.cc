@@ -22,6 +22,7 @@
 #include "mcpose/results.h"
 #include "mcpose/options.h"
 #include "render/simd_targets.h"
+#include "cli_run.h"
 #include "test_data.h"
 
 namespace mcpose {
@@ -29,26 +30,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct CliResult {
-  int exit_code = -1;
-  std::string out, err;
-};
-
-std::string ReadText(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-CliResult RunProgram(const std::string& program, const std::string& args, const fs::path& dir) {
-  const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
-  const std::string cmd = program + " " + args + " > " + out.string() + " 2> " + err.string();
-  const int rc = std::system(cmd.c_str());
-  return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, ReadText(out), ReadText(err)};
-}
-CliResult RunCli(const std::string& args, const fs::path& dir) { return RunProgram(MCPOSE_CLI_PATH, args, dir); }
-CliResult RunTools(const std::string& args, const fs::path& dir) { return RunProgram(MCPOSE_TOOLS_PATH, args, dir); }
+using testing::CliResult;
+using testing::ReadText;
+using testing::RunCli;
+using testing::RunTools;
 
 void WriteText(const fs::path& p, const std::string& text) {
   std::ofstream(p, std::ios::binary) << text;

@@ -14,5 +14,6 @@ void AddEvalCommand(CLI::App& app, Status* status);
 void AddBenchCommand(CLI::App& app, Status* status);
 void AddCaptureCommand(CLI::App& app, Status* status);
 void AddTrackCommand(CLI::App& app, Status* status);
+void AddReportCommand(CLI::App& app, Status* status);
 
 }  // namespace mcpose::cli

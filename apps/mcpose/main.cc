@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
   mcpose::cli::AddBenchCommand(app, &status);
   mcpose::cli::AddCaptureCommand(app, &status);
   mcpose::cli::AddTrackCommand(app, &status);
+  mcpose::cli::AddReportCommand(app, &status);
   spdlog::set_pattern("[%H:%M:%S] %v");
   try {
     app.parse(argc, argv);
