@@ -1,6 +1,5 @@
 // The mcpose command line on real data: bad input gets one clear error and no output file;
 // the same seed gives the same CSV at any thread count; BOP and native layouts agree.
-#include <sys/wait.h>
 
 #include <algorithm>
 #include <cmath>
