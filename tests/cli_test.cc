@@ -22,6 +22,7 @@
 #include "mcpose/options.h"
 #include "render/simd_targets.h"
 #include "cli_run.h"
+#include "dataset_copy.h"
 #include "test_data.h"
 
 namespace mcpose {
@@ -30,13 +31,12 @@ namespace {
 namespace fs = std::filesystem;
 
 using testing::CliResult;
+using testing::MakeBopCopy;
+using testing::Replace;
+using testing::WriteText;
 using testing::ReadText;
 using testing::RunCli;
 using testing::RunTools;
-
-void WriteText(const fs::path& p, const std::string& text) {
-  std::ofstream(p, std::ios::binary) << text;
-}
 
 // Detections of scene 49 image 1 (both layouts hold it) with tight boxes from box.txt-like
 // values; enough to run the estimator.
@@ -47,25 +47,6 @@ nlohmann::json Scene49Detections() {
     {"scene_id": 49, "image_id": 1, "category_id": 9, "score": 0.7, "bbox": [170, 98, 129, 131]},
     {"scene_id": 49, "image_id": 1, "category_id": 9, "score": 0.3, "bbox": [400, 300, 129, 131]}
   ])");
-}
-
-// A BOP dataset in a temp folder: JSON files copied, images and models linked, so one file at
-// a time can be replaced by a broken one.
-fs::path MakeBopCopy(const std::string& name) {
-  const fs::path src = testing::BopDir();
-  const fs::path dst = testing::TempDir(name) / "bop";
-  fs::create_directories(dst / "models");
-  fs::create_directories(dst / "test/000049/depth");
-  fs::copy_file(src / "models/models_info.json", dst / "models/models_info.json");
-  for (const auto& e : fs::directory_iterator(src / "models"))
-    if (e.path().extension() == ".ply") fs::create_symlink(e.path(), dst / "models" / e.path().filename());
-  for (const char* f : {"scene_camera.json", "scene_gt.json", "scene_gt_info.json"})
-    fs::copy_file(src / "test/000049" / f, dst / "test/000049" / f);
-  for (const auto& e : fs::directory_iterator(src / "test/000049/depth"))
-    fs::create_symlink(e.path(), dst / "test/000049/depth" / e.path().filename());
-  fs::create_directory_symlink(src / "test/000049/mask_visib", dst / "test/000049/mask_visib");
-  for (const char* f : {"camera.json"}) fs::copy_file(src / f, dst / f);
-  return dst;
 }
 
 struct BadCase {
@@ -98,11 +79,6 @@ TEST_P(CliBadInput, OneClearErrorNonZeroExitNoResultsFile) {
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   EXPECT_FALSE(fs::exists(results)) << c.name;
   EXPECT_FALSE(fs::exists(results.string() + ".tmp")) << c.name;
-}
-
-void Replace(const fs::path& p, const std::string& text) {
-  fs::remove(p);
-  WriteText(p, text);
 }
 
 std::string PatchSceneCamera(const fs::path& bop, double fx) {

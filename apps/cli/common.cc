@@ -188,6 +188,12 @@ Status WriteFileAtomically(const std::string& path, const std::string& text) {
   return Status::Ok();
 }
 
+void RemoveOutput(const std::string& path) {
+  if (path.empty()) return;
+  std::error_code ec;
+  std::filesystem::remove(path, ec);
+}
+
 Status CheckWritable(const std::string& path) {
   namespace fs = std::filesystem;
   const fs::path p(path);

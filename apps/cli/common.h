@@ -50,6 +50,8 @@ void AddEstimatorFlags(CLI::App* cmd, unsigned groups, EstimatorFlags* flags);
 
 // Writes `text` to `path` through a temporary file and a rename: no partial file on error.
 Status WriteFileAtomically(const std::string& path, const std::string& text);
+// Removes the output file at `path` (if any; empty: nothing), when a later output failed.
+void RemoveOutput(const std::string& path);
 // Ok if a file could be created at `path` (its folder exists and is writable).
 Status CheckWritable(const std::string& path);
 

@@ -103,7 +103,10 @@ Status RunEstimate(EstimateArgs& a) {
         {"options", options}, {"objects", objects}};
     MCPOSE_RETURN_IF_ERROR(WriteFileAtomically(a.out_json, doc.dump(1) + "\n"));
   }
-  MCPOSE_RETURN_IF_ERROR(WriteResultsCsv(a.out, report.results));
+  if (Status written = WriteResultsCsv(a.out, report.results); !written.ok()) {
+    RemoveOutput(a.out_json);  // no half of the outputs is left behind
+    return written;
+  }
 
   if (!a.quiet) {
     double total_s = 0;

@@ -160,7 +160,11 @@ Status RunTrack(TrackArgs& a) {
   std::sort(rows.begin(), rows.end(), [](const PoseResult& x, const PoseResult& y) {
     return std::tie(x.scene_id, x.im_id, x.obj_id) < std::tie(y.scene_id, y.im_id, y.obj_id);
   });
-  return WriteResultsCsv(a.out, rows);
+  if (Status written = WriteResultsCsv(a.out, rows); !written.ok()) {
+    RemoveOutput(a.out_json);  // no half of the outputs is left behind
+    return written;
+  }
+  return Status::Ok();
 }
 
 }  // namespace

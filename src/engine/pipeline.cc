@@ -6,10 +6,26 @@
 #include <optional>
 #include <set>
 
+#include <spdlog/spdlog.h>
+
 #include "core/rng.h"
 #include "engine/box_scorer.h"
 
 namespace mcpose {
+namespace {
+
+// True if some box of `dets` holds a pixel with a depth measurement.
+bool BoxesHoldDepth(const DepthImage& depth, const std::vector<Detection>& dets) {
+  for (const Detection& d : dets) {
+    const render::PixelRect r = engine::ClipBox(d.x, d.y, d.w, d.h, depth.width, depth.height);
+    for (int y = r.y0; y < r.y1; ++y)
+      for (int x = r.x0; x < r.x1; ++x)
+        if (depth.at(x, y) > 0.f) return true;
+  }
+  return false;
+}
+
+}  // namespace
 
 uint64_t GroupStreamId(int scene_id, int image_id, int obj_id) {
   return HashCombine(HashCombine(static_cast<uint64_t>(scene_id), static_cast<uint64_t>(image_id)),
@@ -42,21 +58,31 @@ StatusOr<RunReport> RunEstimation(const Dataset& dataset, const std::vector<Dete
 
   // ---- Load what the run needs before estimating anything ---------------------------------
   std::map<int, Mesh> meshes;
-  for (const auto& [key, by_class] : groups) {
+  for (auto& [key, by_class] : groups) {
     MCPOSE_ASSIGN_OR_RETURN(Frame frame, dataset.LoadFrame(key));
-    for (const auto& [obj_id, dets] : by_class) {
+    for (auto it = by_class.begin(); it != by_class.end();) {
+      const auto& [obj_id, dets] = *it;
       for (const Detection& d : dets) {
         if (Status st = engine::CheckBox(d, frame.K); !st.ok())
           return InvalidArgument(detections_source + ": obj_id " + std::to_string(obj_id) + " in scene_id " +
                                  std::to_string(key.scene_id) + ", image_id " + std::to_string(key.image_id) +
                                  ": " + st.message());
       }
+      // A class whose boxes hold no depth (all zero or saturated) has nothing to fit: no row.
+      if (!BoxesHoldDepth(frame.depth, dets)) {
+        spdlog::warn("{}: no valid depth in the {} box(es) of class {} ({}); it gets no result", frame.depth_path,
+                     dets.size(), obj_id, dataset.ObjectName(obj_id));
+        it = by_class.erase(it);
+        continue;
+      }
       if (!meshes.count(obj_id)) {
         MCPOSE_ASSIGN_OR_RETURN(Mesh mesh, dataset.LoadMesh(obj_id));
         meshes.emplace(obj_id, std::move(mesh));
       }
+      ++it;
     }
   }
+  std::erase_if(groups, [](const auto& group) { return group.second.empty(); });
   int total = 0;
   for (const auto& [key, by_class] : groups) total += static_cast<int>(by_class.size());
   std::vector<const Mesh*> mesh_list;

@@ -34,7 +34,8 @@ using ProgressFn = std::function<void(int, int, const ObjectRecord&)>;
 
 // Checks every detection first (its image exists in the dataset, its class has a model, its
 // box lies in the image with positive size; errors name `detections_source`), loads the
-// meshes, then estimates each (image, class) group. Nothing is written here.
+// meshes, then estimates each (image, class) group. A class whose boxes hold no valid depth is
+// left out with one warning naming the depth image and the class. Nothing is written here.
 StatusOr<RunReport> RunEstimation(const Dataset& dataset, const std::vector<Detection>& detections,
                                   const std::string& detections_source,
                                   const EstimatorOptions& options, const ProgressFn& progress);

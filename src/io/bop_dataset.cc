@@ -9,6 +9,7 @@
 #include <mutex>
 #include <optional>
 
+#include "core/physical_limits.h"
 #include "io/io_util.h"
 #include "io/jpeg_io.h"
 #include "io/json_util.h"
@@ -36,6 +37,9 @@ bool AllDigits(const std::string& s) {
          std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
 }
 
+// An id as a JSON key: decimal digits without leading zeros ("6", not "06"), so one id has one key.
+bool IsIdKey(const std::string& s) { return AllDigits(s) && (s.size() == 1 || s[0] != '0'); }
+
 // One image's entry of scene_camera.json.
 struct CameraEntry {
   double K[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};  // row-major cam_K
@@ -55,8 +59,8 @@ StatusOr<SceneCameras> ParseSceneCamera(const std::string& path) {
   SceneCameras cameras;
   for (const auto& [key, entry] : root.items()) {
     int im_id = 0;
-    if (!AllDigits(key) || !ParseInt(key, &im_id)) {
-      return InvalidArgument(path + ": key '" + key + "' is not an image id");
+    if (!IsIdKey(key) || !ParseInt(key, &im_id)) {
+      return InvalidArgument(path + ": key '" + key + "' is not an image id (digits, no leading zero)");
     }
     const std::string where = path + ": image " + key + ": ";
     if (!entry.is_object() || !entry.contains("cam_K")) {
@@ -72,11 +76,17 @@ StatusOr<SceneCameras> ParseSceneCamera(const std::string& path) {
       if (!K[i].is_number()) return InvalidArgument(where + "cam_K[" + std::to_string(i) + "] is not a number");
       camera.K[i] = K[i].get<double>();
     }
+    for (const auto& [field, f] : {std::pair{"fx", camera.K[0]}, std::pair{"fy", camera.K[4]}}) {
+      if (const std::string problem = limits::CheckFocal(field, f); !problem.empty())
+        return InvalidArgument(where + "cam_K: " + problem);
+    }
     if (entry.contains("depth_scale")) {
       double scale = 0;
       if (!JsonToDouble(entry["depth_scale"], &scale) || !(scale > 0)) {
         return InvalidArgument(where + "depth_scale must be a positive number");
       }
+      if (const std::string problem = limits::CheckDepthScale(scale / kMmPerMetre); !problem.empty())
+        return InvalidArgument(where + "depth_scale = " + limits::Num(scale) + " mm: " + problem);
       camera.depth_scale = scale;
     }
     cameras[im_id] = camera;
@@ -91,8 +101,8 @@ Status ParseSceneGt(const std::string& path, int scene_id,
   if (!root.is_object()) return InvalidArgument(path + ": expected an object keyed by image id");
   for (const auto& [key, list] : root.items()) {
     int im_id = 0;
-    if (!AllDigits(key) || !ParseInt(key, &im_id)) {
-      return InvalidArgument(path + ": key '" + key + "' is not an image id");
+    if (!IsIdKey(key) || !ParseInt(key, &im_id)) {
+      return InvalidArgument(path + ": key '" + key + "' is not an image id (digits, no leading zero)");
     }
     if (!list.is_array()) return InvalidArgument(path + ": image " + key + ": expected a list");
     std::vector<GtInstance> gt;
@@ -116,6 +126,10 @@ Status ParseSceneGt(const std::string& path, int scene_id,
         for (int c = 0; c < 3; ++c) instance.T_cam_obj.R(r, c) = R[3 * r + c];
         instance.T_cam_obj.t(r) = t[r] / kMmPerMetre;
       }
+      if (const std::string problem = limits::CheckRotation(instance.T_cam_obj.R); !problem.empty())
+        return InvalidArgument(where + "cam_R_m2c: " + problem);
+      if (const std::string problem = limits::CheckCoordinates(instance.T_cam_obj.t); !problem.empty())
+        return InvalidArgument(where + "cam_t_m2c: " + problem);
       gt.push_back(instance);
     }
     (*frames)[FrameKey{scene_id, im_id}] = std::move(gt);
@@ -132,8 +146,10 @@ StatusOr<DatasetCamera> ParseDatasetCamera(const std::string& path) {
   if (root.contains("width") || root.contains("height")) {
     if (!root.contains("width") || !root.contains("height") ||
         !JsonToInt(root["width"], &camera.width) || !JsonToInt(root["height"], &camera.height) ||
-        camera.width <= 0 || camera.height <= 0) {
-      return InvalidArgument(path + ": width and height must be positive integers");
+        camera.width <= 0 || camera.height <= 0 || camera.width > limits::kMaxImageSide ||
+        camera.height > limits::kMaxImageSide) {
+      return InvalidArgument(path + ": width and height must be integers in 1-" +
+                             std::to_string(limits::kMaxImageSide));
     }
   }
   if (root.contains("depth_scale")) {
@@ -141,6 +157,8 @@ StatusOr<DatasetCamera> ParseDatasetCamera(const std::string& path) {
     if (!JsonToDouble(root["depth_scale"], &scale) || !(scale > 0)) {
       return InvalidArgument(path + ": depth_scale must be a positive number");
     }
+    if (const std::string problem = limits::CheckDepthScale(scale / kMmPerMetre); !problem.empty())
+      return InvalidArgument(path + ": depth_scale = " + limits::Num(scale) + " mm: " + problem);
     camera.depth_scale = scale;
   }
   return camera;
@@ -223,6 +241,17 @@ class BopDataset final : public Dataset {
                              std::to_string(frame.K.width) + "x" + std::to_string(frame.K.height) +
                              " depth image " + frame.depth_path);
     }
+    // The colour image, where it is a PNG, must have the depth's size.
+    const std::string rgb_path = scene_dir + "/rgb/" + Id6(key.image_id) + ".png";
+    std::error_code rgb_ec;
+    if (fs::exists(rgb_path, rgb_ec)) {
+      MCPOSE_ASSIGN_OR_RETURN(const ImageSize size, ReadPngSize(rgb_path));
+      if (size.width != frame.depth.width || size.height != frame.depth.height)
+        return InvalidArgument(rgb_path + ": image is " + std::to_string(size.width) + "x" +
+                               std::to_string(size.height) + " but the depth image " + frame.depth_path +
+                               " of its frame is " + std::to_string(frame.depth.width) + "x" +
+                               std::to_string(frame.depth.height));
+    }
     frame.gt = it->second;
     return frame;
   }
@@ -259,8 +288,16 @@ class BopDataset final : public Dataset {
 
   StatusOr<MaskImage> LoadVisibleMask(const FrameKey& key, const GtInstance& gt) const override {
     if (frames_.find(key) == frames_.end()) return MissingFrame(key);
-    return ReadMaskPng(SceneDir(key.scene_id) + "/mask_visib/" +
-                       Id6(key.image_id) + "_" + Id6(gt.gt_index) + ".png");
+    const std::string scene_dir = SceneDir(key.scene_id);
+    const std::string path = scene_dir + "/mask_visib/" + Id6(key.image_id) + "_" + Id6(gt.gt_index) + ".png";
+    MCPOSE_ASSIGN_OR_RETURN(MaskImage mask, ReadMaskPng(path));
+    const std::string depth_path = scene_dir + "/depth/" + Id6(key.image_id) + ".png";
+    MCPOSE_ASSIGN_OR_RETURN(const ImageSize depth, ReadPngSize(depth_path));
+    if (mask.width != depth.width || mask.height != depth.height)
+      return InvalidArgument(path + ": image is " + std::to_string(mask.width) + "x" + std::to_string(mask.height) +
+                             " but the depth image " + depth_path + " of its frame is " + std::to_string(depth.width) +
+                             "x" + std::to_string(depth.height));
+    return mask;
   }
 
   std::vector<int> ObjectIds() const override { return object_ids_; }
@@ -338,8 +375,13 @@ StatusOr<std::unique_ptr<Dataset>> OpenBop(const std::string& root, const std::s
   std::vector<int> object_ids;
   for (const auto& [key, value] : info.items()) {
     int obj_id = 0;
-    if (!AllDigits(key) || !ParseInt(key, &obj_id) || obj_id < 1) {
-      return InvalidArgument(info_path + ": key '" + key + "' is not a positive obj_id");
+    if (!IsIdKey(key) || !ParseInt(key, &obj_id) || obj_id < 1) {
+      return InvalidArgument(info_path + ": key '" + key + "' is not a positive obj_id (digits, no leading zero)");
+    }
+    const std::string model = root + "/models/obj_" + Id6(obj_id) + ".ply";
+    std::error_code exists_ec;
+    if (!fs::is_regular_file(model, exists_ec)) {
+      return InvalidArgument(info_path + ": key '" + key + "' names no model file (" + model + " does not exist)");
     }
     object_ids.push_back(obj_id);
   }

@@ -131,6 +131,8 @@ TempBop MakeTempBop(const std::string& name, const std::string& scene_camera_tex
   fs::create_directories(bop.scene / "depth");
   fs::create_directories(bop.scene / "mask_visib");
   fs::copy_file(src / "models/models_info.json", bop.root / "models/models_info.json");
+  for (const auto& e : fs::directory_iterator(src / "models"))
+    if (e.path().extension() == ".ply") fs::create_symlink(e.path(), bop.root / "models" / e.path().filename());
   fs::copy_file(src / "camera.json", bop.root / "camera.json");
   fs::copy_file(src / "test/000049/depth/000001.png", bop.scene / "depth/000001.png");
   // scene_gt.json restricted to image 1.
@@ -156,8 +158,12 @@ TEST(BopDatasetIoTest, TempCopyLoads) {
   StatusOr<MaskImage> mask = dataset->LoadVisibleMask({49, 1}, frame->gt[0]);
   EXPECT_EQ(mask.status().code(), StatusCode::kNotFound);
   EXPECT_NE(mask.status().message().find("mask_visib/000001_000000.png"), std::string::npos);
-  StatusOr<Mesh> mesh = dataset->LoadMesh(3);
-  EXPECT_NE(mesh.status().message().find("obj_000003.ply"), std::string::npos);
+  // A model that models_info.json lists but that is missing: the dataset does not open.
+  fs::remove(bop.root / "models/obj_000003.ply");
+  const Status missing = Dataset::Open(bop.root.string()).status();
+  EXPECT_NE(missing.message().find("models_info.json: key '3' names no model file"), std::string::npos)
+      << missing.message();
+  EXPECT_NE(missing.message().find("obj_000003.ply"), std::string::npos) << missing.message();
 }
 
 TEST(BopDatasetIoTest, BadIntrinsicsNameTheFile) {
@@ -167,7 +173,7 @@ TEST(BopDatasetIoTest, BadIntrinsicsNameTheFile) {
     const char* message;
   } cases[] = {
       {"bop_zero_k", R"({"1": {"cam_K": [0, 0, 0, 0, 0, 0, 0, 0, 0], "depth_scale": 0.1}})",
-       "focal lengths must be positive"},
+       "fx = 0 px is outside 1-100000 px"},
       {"bop_nan_k",
        R"({"1": {"cam_K": [NaN, 0.0, 312.9, 0.0, 1067.4, 241.3, 0.0, 0.0, 1.0], "depth_scale": 0.1}})",
        "NaN"},
@@ -243,6 +249,7 @@ TEST(BopDatasetIoTest, NonYcbvIdsGetBopNames) {
   TempBop bop = MakeTempBop("bop_names", kCameraOk);
   std::ofstream(bop.root / "models/models_info.json")
       << R"({"3": {"diameter": 1.0}, "30": {"diameter": 2.0}})";
+  fs::copy_file(bop.root / "models/obj_000003.ply", bop.root / "models/obj_000030.ply");
   auto dataset = OpenOrDie(bop.root.string());
   ASSERT_TRUE(dataset);
   EXPECT_EQ(dataset->ObjectIds(), (std::vector<int>{3, 30}));

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <exception>
 
+#include "core/physical_limits.h"
 #include "io/io_util.h"
 #include "io/json_util.h"
 
@@ -32,6 +33,10 @@ std::string CheckDetection(const Detection& d) {
   }
   if (!(d.w > 0) || !(d.h > 0)) {
     return "bbox width and height must be positive, got " + BoxText(d);
+  }
+  for (double v : {d.x, d.y, d.w, d.h}) {
+    if (std::abs(v) > limits::kMaxBoxPx)
+      return "bbox " + BoxText(d) + " has a value outside +-" + Number(limits::kMaxBoxPx) + " px";
   }
   if (!std::isfinite(d.time_s)) return "time must be finite";
   return {};

@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <system_error>
 
+#include "core/physical_limits.h"
+
 namespace mcpose::io {
 
 namespace fs = std::filesystem;
@@ -111,6 +113,14 @@ std::vector<std::string_view> SplitLines(std::string_view text) {
     begin = end + 1;
   }
   return lines;
+}
+
+Status CheckMeshCoordinates(const std::string& path, const Mesh& mesh) {
+  for (size_t i = 0; i < mesh.vertices_m.size(); ++i) {
+    if (const std::string problem = limits::CheckCoordinates(mesh.vertices_m[i]); !problem.empty())
+      return InvalidArgument(path + ": vertex " + std::to_string(i + 1) + ": " + problem);
+  }
+  return Status::Ok();
 }
 
 std::string FileName(const std::string& path) { return fs::path(path).filename().string(); }

@@ -6,6 +6,7 @@
 #include <string_view>
 #include <vector>
 
+#include "mcpose/mesh.h"
 #include "mcpose/status.h"
 
 namespace mcpose::io {
@@ -29,6 +30,10 @@ std::vector<std::string_view> SplitWhitespace(std::string_view text);
 std::vector<std::string_view> Split(std::string_view text, char sep);
 // The lines of `text` (LF or CRLF endings; the CR is removed).
 std::vector<std::string_view> SplitLines(std::string_view text);
+
+// Ok if every vertex of `mesh` is finite and under limits::kMaxCoordinateM in each coordinate;
+// else an error naming `path`, the vertex and the coordinate.
+Status CheckMeshCoordinates(const std::string& path, const Mesh& mesh);
 
 // The last path component, for short error messages ("scene_gt.json").
 std::string FileName(const std::string& path);

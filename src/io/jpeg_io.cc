@@ -7,6 +7,7 @@
 #include <fstream>
 #include <memory>
 
+#include "core/physical_limits.h"
 #include "io/io_util.h"
 #include "io/png_io.h"
 
@@ -30,6 +31,14 @@ StatusOr<ColourImage> ReadJpeg(const std::string& path) {
   if (tjDecompressHeader3(tj.get(), data, size, &width, &height, &subsampling, &colorspace) != 0)
     return DataLoss(path + ": not a readable JPEG file (" + tjGetErrorStr2(tj.get()) + ")");
   if (width <= 0 || height <= 0) return DataLoss(path + ": JPEG file has an empty image");
+  // A JPEG codes at least a few bits per 8 x 8 block: far more pixels than 1,000 per byte is a
+  // header that lies. Both checks come before the pixel buffer is allocated.
+  constexpr double kMaxPixelsPerByte = 1000.0;
+  if (width > limits::kMaxImageSide || height > limits::kMaxImageSide ||
+      static_cast<double>(width) * height > kMaxPixelsPerByte * static_cast<double>(size))
+    return DataLoss(path + ": JPEG header claims " + std::to_string(width) + "x" + std::to_string(height) +
+                    " pixels, more than the limit of " + std::to_string(limits::kMaxImageSide) +
+                    " per side or than its " + std::to_string(size) + " bytes can hold");
   ColourImage image;
   image.width = width, image.height = height;
   try {

@@ -3,15 +3,43 @@
 #include <cmath>
 #include <exception>
 #include <limits>
+#include <set>
+#include <stdexcept>
+#include <vector>
 
 #include "io/io_util.h"
 
 namespace mcpose::io {
 
+namespace {
+
+// Thrown by the parser callback on a key seen twice in one object (nlohmann/json keeps the last).
+struct DuplicateKey : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+}  // namespace
+
 StatusOr<nlohmann::json> ReadJsonFile(const std::string& path) {
   MCPOSE_ASSIGN_OR_RETURN(std::string text, ReadFileToString(path));
+  // The keys of each open object, innermost last.
+  std::vector<std::set<std::string>> open_objects;
+  const auto check_keys = [&](int, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
+    using Event = nlohmann::json::parse_event_t;
+    if (event == Event::object_start) {
+      open_objects.emplace_back();
+    } else if (event == Event::object_end) {
+      if (!open_objects.empty()) open_objects.pop_back();
+    } else if (event == Event::key && !open_objects.empty()) {
+      const std::string& key = parsed.get_ref<const std::string&>();
+      if (!open_objects.back().insert(key).second) throw DuplicateKey(key);
+    }
+    return true;
+  };
   try {
-    return nlohmann::json::parse(text);
+    return nlohmann::json::parse(text, check_keys);
+  } catch (const DuplicateKey& e) {
+    return DataLoss(path + ": duplicate key '" + e.what() + "' in one object");
   } catch (const std::exception& e) {
     std::string message = path + ": malformed JSON (" + e.what() + ")";
     // Python's json module writes NaN / Infinity for non-finite floats; JSON has no such values.

@@ -10,7 +10,7 @@
 namespace mcpose::io {
 
 // The parsed contents of `path`. NotFound if missing; DataLoss with the parser's message
-// (line and column) if the text is not valid JSON.
+// (line and column) if the text is not valid JSON or an object has the same key twice.
 StatusOr<nlohmann::json> ReadJsonFile(const std::string& path);
 
 // `value` as a finite double; false if it is not a number (booleans are not numbers).

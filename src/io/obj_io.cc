@@ -5,12 +5,14 @@
 #include <cmath>
 #include <exception>
 #include <filesystem>
+#include <limits>
 #include <mutex>
 #include <set>
 #include <sstream>
 
 #include <spdlog/spdlog.h>
 
+#include "core/physical_limits.h"
 #include "io/io_util.h"
 #include "io/jpeg_io.h"
 
@@ -42,8 +44,62 @@ void WarnOnce(const std::string& message) {
   if (said.insert(message).second) spdlog::warn("{}", message);
 }
 
+// tinyobjloader reads what it can and drops the rest (a vertex line of two numbers gets z = 0,
+// letters read as 0, an unknown statement is skipped, an index beyond int overflows), so the
+// text is checked line by line first: known statements only, each with the right count of
+// numbers, face corners of 1-based (or negative, relative) indices that fit in an int.
+Status CheckObjText(const std::string& path, std::string_view text) {
+  const std::vector<std::string_view> lines = SplitLines(text);
+  for (size_t i = 0; i < lines.size(); ++i) {
+    const std::string_view line = Trim(lines[i]);
+    if (line.empty() || line[0] == '#') continue;
+    const std::vector<std::string_view> tokens = SplitWhitespace(line);
+    const std::string_view keyword = tokens[0];
+    const size_t n = tokens.size() - 1;
+    const auto bad = [&](const std::string& what) {
+      return DataLoss(path + ": line " + std::to_string(i + 1) + ": " + what + ", got '" +
+                      std::string(line.substr(0, 80)) + "'");
+    };
+    const auto all_numbers = [&] {
+      for (size_t k = 1; k < tokens.size(); ++k) {
+        double v = 0;
+        if (!ParseDouble(tokens[k], &v) || !std::isfinite(v)) return false;
+      }
+      return true;
+    };
+    if (keyword == "v") {
+      // x y z, optionally w or a vertex colour r g b.
+      if ((n != 3 && n != 4 && n != 6) || !all_numbers()) return bad("expected 'v x y z' (finite numbers)");
+    } else if (keyword == "vt") {
+      if (n < 1 || n > 3 || !all_numbers()) return bad("expected 'vt u [v [w]]' (finite numbers)");
+    } else if (keyword == "vn") {
+      if (n != 3 || !all_numbers()) return bad("expected 'vn x y z' (finite numbers)");
+    } else if (keyword == "f" || keyword == "l" || keyword == "p") {
+      if (n < 1) return bad("expected vertex indices");
+      for (size_t k = 1; k < tokens.size(); ++k) {
+        // v, v/t, v//n or v/t/n; each index a nonzero int, the texture one may be empty in v//n.
+        const std::vector<std::string_view> parts = Split(tokens[k], '/');
+        if (parts.size() > 3) return bad("bad face corner '" + std::string(tokens[k]) + "'");
+        for (size_t j = 0; j < parts.size(); ++j) {
+          if (j == 1 && parts[j].empty() && parts.size() == 3) continue;
+          int index = 0;
+          if (!ParseInt(parts[j], &index) || index == 0 || index == std::numeric_limits<int>::min())
+            return bad("face corner '" + std::string(tokens[k]) + "' is not a nonzero index that fits an int");
+        }
+      }
+    } else if (keyword == "o" || keyword == "g" || keyword == "s" || keyword == "usemtl" || keyword == "mtllib" ||
+               keyword == "vp") {
+      continue;
+    } else {
+      return bad("unknown OBJ statement '" + std::string(keyword.substr(0, 16)) + "'");
+    }
+  }
+  return Status::Ok();
+}
+
 StatusOr<Mesh> ParseObj(const std::string& path, const std::string& text,
                         double file_units_per_metre) {
+  MCPOSE_RETURN_IF_ERROR(CheckObjText(path, text));
   // Parse with tinyobjloader, keeping polygons as they are (no triangulation).
   tinyobj::attrib_t attrib;
   std::vector<tinyobj::shape_t> shapes;
@@ -137,6 +193,7 @@ StatusOr<Mesh> ParseObj(const std::string& path, const std::string& text,
     mesh.appearance.source = path;
   }
   MCPOSE_RETURN_IF_ERROR(mesh.Validate(path));
+  MCPOSE_RETURN_IF_ERROR(CheckMeshCoordinates(path, mesh));
   return mesh;
 }
 

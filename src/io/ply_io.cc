@@ -11,6 +11,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/physical_limits.h"
 #include "io/io_util.h"
 
 namespace mcpose::io {
@@ -314,8 +315,10 @@ StatusOr<Mesh> ParsePly(const std::string& path, const std::string& bytes,
         // List property: count, then the items.
         double count_value = 0;
         MCPOSE_RETURN_IF_ERROR(reader.Read(property.count_type, &count_value));
-        if (count_value < 0 || count_value != std::floor(count_value)) {
-          return DataLoss(reader.Where() + "bad list length " + std::to_string(count_value));
+        // A list cannot hold more items than the file has bytes.
+        if (!(count_value >= 0 && count_value <= static_cast<double>(bytes.size())) ||
+            count_value != std::floor(count_value)) {
+          return DataLoss(reader.Where() + "bad list length " + limits::Num(count_value));
         }
         const size_t count = static_cast<size_t>(count_value);
         const bool is_indices = is_face && static_cast<int>(p) == indices_property;
@@ -327,14 +330,20 @@ StatusOr<Mesh> ParsePly(const std::string& path, const std::string& bytes,
           double value = 0;
           MCPOSE_RETURN_IF_ERROR(reader.Read(property.type, &value));
           if (!is_indices) continue;
-          if (value < 0 || value > std::numeric_limits<uint32_t>::max()) {
-            return InvalidArgument(reader.Where() + "vertex index " + std::to_string(value) +
-                                   " is out of range");
+          if (!(value >= 0 && value < static_cast<double>(vertex_element->count)) || value != std::floor(value)) {
+            return InvalidArgument(reader.Where() + "vertex index " + limits::Num(value) + " is not an integer in [0, " +
+                                   std::to_string(vertex_element->count) + ")");
           }
           triangle[k] = static_cast<uint32_t>(value);
         }
       }
       if (is_vertex) {
+        for (int i = 0; i < 3; ++i) {
+          if (!limits::CoordinateOk(position[i] / file_units_per_metre))
+            return InvalidArgument(reader.Where() + std::string(1, "xyz"[i]) + " = " +
+                                   limits::Num(position[i] / file_units_per_metre) +
+                                   " m is not finite or not under " + limits::Num(limits::kMaxCoordinateM) + " m");
+        }
         // Divide in double, round once to float: the same float as a metre-valued source.
         mesh.vertices_m.emplace_back(static_cast<float>(position[0] / file_units_per_metre),
                                      static_cast<float>(position[1] / file_units_per_metre),
@@ -350,6 +359,7 @@ StatusOr<Mesh> ParsePly(const std::string& path, const std::string& bytes,
   }
   if (has_colour) mesh.appearance.source = path;
   MCPOSE_RETURN_IF_ERROR(mesh.Validate(path));
+  MCPOSE_RETURN_IF_ERROR(CheckMeshCoordinates(path, mesh));
   return mesh;
 }
 

@@ -172,7 +172,7 @@ TEST(PlyIoTest, BadInput) {
                    "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
                    "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
                    "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n");
-  ExpectError(io::ReadPlyMesh(path), path, "beyond the 3 vertices");
+  ExpectError(io::ReadPlyMesh(path), path, "vertex index 7 is not an integer in [0, 3)");
 
   path = WriteText("ply_no_header_end", "ply\nformat ascii 1.0\nelement vertex 3\n");
   ExpectError(io::ReadPlyMesh(path), path, "end_header");

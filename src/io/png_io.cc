@@ -10,6 +10,7 @@
 #include <exception>
 #include <filesystem>
 
+#include "core/physical_limits.h"
 #include "io/io_util.h"
 
 namespace mcpose::io {
@@ -100,11 +101,22 @@ bool Accepts(PngKind kind, const PngReadState& s) {
   if (kind == PngKind::kColour) return s.bit_depth <= 8;  // any colour type, 8-bit or less
   if (s.color_type != PNG_COLOR_TYPE_GRAY) return false;
   if (kind == PngKind::kGray16) return s.bit_depth == 16;
-  return true;  // masks: gray of any bit depth (1, 2, 4, 8, 16)
+  return s.bit_depth <= 8;  // masks: gray of 1, 2, 4 or 8 bits (a 16-bit one is not a label image)
+}
+
+// zlib's deflate shrinks data at most about 1032:1; a header claiming more pixel bytes than the
+// file could inflate to is refused before any pixel buffer is allocated.
+constexpr double kMaxDeflateRatio = 1032.0;
+
+// The raw bytes an image of this header decodes to, before our transforms.
+double RawImageBytes(const PngReadState& s) {
+  const double bits_per_pixel = static_cast<double>(s.bit_depth) * Channels(s.color_type);
+  return std::ceil(static_cast<double>(s.width) * bits_per_pixel / 8.0) * s.height;
 }
 
 // The libpng calls. Returns 0 on success, 1 after a libpng error, 2 if the format is refused,
-// 3 if the pixels do not fit in memory. Everything that outlives a longjmp lives in `state`
+// 3 if the pixels do not fit in memory, 4 if the header claims a size beyond kMaxImageSide or
+// beyond what the file's bytes can hold. Everything that outlives a longjmp lives in `state`
 // (the caller's frame), so no destructor is skipped and no local is left indeterminate.
 int DecodePng(PngReadState* state, PngKind kind) {
   png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, state, OnPngError, OnPngWarning);
@@ -119,9 +131,16 @@ int DecodePng(PngReadState* state, PngKind kind) {
     return 1;
   }
   png_set_read_fn(png, state, ReadFromMemory);
+  png_set_user_limits(png, limits::kMaxImageSide, limits::kMaxImageSide);
   png_read_info(png, info);
   png_get_IHDR(png, info, &state->width, &state->height, &state->bit_depth, &state->color_type,
                &state->interlace, nullptr, nullptr);
+  if (state->width > static_cast<png_uint_32>(limits::kMaxImageSide) ||
+      state->height > static_cast<png_uint_32>(limits::kMaxImageSide) ||
+      RawImageBytes(*state) > kMaxDeflateRatio * static_cast<double>(state->bytes->size())) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    return 4;
+  }
   if (!Accepts(kind, *state)) {
     png_destroy_read_struct(&png, &info, nullptr);
     return 2;
@@ -163,6 +182,12 @@ Status ReadPng(const std::string& path, PngKind kind, const char* wanted, PngRea
   state->bytes = &*bytes;
   const int result = DecodePng(state, kind);
   state->bytes = nullptr;
+  if (result == 4) {
+    return DataLoss(path + ": PNG header claims " + std::to_string(state->width) + "x" +
+                    std::to_string(state->height) + " pixels, more than the limit of " +
+                    std::to_string(limits::kMaxImageSide) + " per side or than its " +
+                    std::to_string(bytes->size()) + " bytes can hold");
+  }
   if (result == 3) {
     return DataLoss(path + ": image too large to decode (" + std::to_string(state->width) + "x" +
                     std::to_string(state->height) + ")");
@@ -172,6 +197,9 @@ Status ReadPng(const std::string& path, PngKind kind, const char* wanted, PngRea
                            std::to_string(state->width) + "x" + std::to_string(state->height));
   }
   if (result != 0) {
+    if (state->error.find("exceeds user limit") != std::string::npos)
+      return DataLoss(path + ": PNG header claims more than " + std::to_string(limits::kMaxImageSide) +
+                      " pixels per side (libpng: " + state->error + ")");
     if (state->truncated) return DataLoss(path + ": PNG file is truncated (unexpected end of file)");
     return DataLoss(path + ": corrupt PNG data (libpng: " +
                     (state->error.empty() ? std::string("out of memory") : state->error) + ")");
@@ -253,9 +281,8 @@ StatusOr<Gray16Image> ReadGray16Png(const std::string& path) {
 }
 
 StatusOr<DepthImage> ReadDepthPng(const std::string& path, double metres_per_unit) {
-  if (!std::isfinite(metres_per_unit) || metres_per_unit <= 0) {
-    return InvalidArgument(path + ": depth scale must be finite and positive, got " +
-                           std::to_string(metres_per_unit) + " m per unit");
+  if (const std::string problem = limits::CheckDepthScale(metres_per_unit); !problem.empty()) {
+    return InvalidArgument(path + ": " + problem);
   }
   MCPOSE_ASSIGN_OR_RETURN(Gray16Image raw, ReadGray16Png(path));
   DepthImage depth;
@@ -263,7 +290,9 @@ StatusOr<DepthImage> ReadDepthPng(const std::string& path, double metres_per_uni
   depth.height = raw.height;
   depth.depth_m.resize(raw.values.size());
   for (size_t i = 0; i < raw.values.size(); ++i) {
-    depth.depth_m[i] = static_cast<float>(raw.values[i] * metres_per_unit);
+    // The saturated value is a sensor's "out of range", no measurement, as 0 is.
+    const uint16_t v = raw.values[i] == limits::kSaturatedDepth ? 0 : raw.values[i];
+    depth.depth_m[i] = static_cast<float>(v * metres_per_unit);
   }
   return depth;
 }
@@ -271,19 +300,13 @@ StatusOr<DepthImage> ReadDepthPng(const std::string& path, double metres_per_uni
 StatusOr<MaskImage> ReadMaskPng(const std::string& path) {
   PngReadState state;
   MCPOSE_RETURN_IF_ERROR(
-      ReadPng(path, PngKind::kMask, "mask PNG must be single-channel grayscale", &state));
+      ReadPng(path, PngKind::kMask, "mask PNG must be single-channel grayscale of at most 8 bits", &state));
   MaskImage mask;
   mask.width = static_cast<int>(state.width);
   mask.height = static_cast<int>(state.height);
   const size_t n = static_cast<size_t>(mask.width) * mask.height;
   mask.values.resize(n);
-  if (state.bit_depth == 16) {
-    for (size_t i = 0; i < n; ++i) {
-      mask.values[i] = (state.pixels[2 * i] | state.pixels[2 * i + 1]) ? 255 : 0;
-    }
-  } else {
-    std::memcpy(mask.values.data(), state.pixels.data(), n);
-  }
+  std::memcpy(mask.values.data(), state.pixels.data(), n);
   return mask;
 }
 
@@ -309,6 +332,33 @@ Status WriteMaskPng(const std::string& path, const MaskImage& mask) {
   }
   return WritePng(path, mask.width, mask.height, 8, PNG_COLOR_TYPE_GRAY,
                   std::vector<unsigned char>(mask.values.begin(), mask.values.end()));
+}
+
+StatusOr<ImageSize> ReadPngSize(const std::string& path) {
+  // Signature (8 bytes), IHDR length and type (8), width and height (4 + 4, big-endian).
+  constexpr size_t kHeaderBytes = 24;
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return NotFound(path + ": file does not exist");
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) return DataLoss(path + ": cannot open file");
+  unsigned char header[kHeaderBytes];
+  const size_t got = std::fread(header, 1, kHeaderBytes, f);
+  std::fclose(f);
+  if (got != kHeaderBytes || png_sig_cmp(header, 0, kPngSignatureBytes) != 0 ||
+      std::memcmp(header + 12, "IHDR", 4) != 0) {
+    return DataLoss(path + ": not a PNG file (bad signature or header)");
+  }
+  auto be32 = [&](size_t at) {
+    return (uint32_t{header[at]} << 24) | (uint32_t{header[at + 1]} << 16) | (uint32_t{header[at + 2]} << 8) |
+           uint32_t{header[at + 3]};
+  };
+  const uint32_t width = be32(16), height = be32(20);
+  if (width == 0 || height == 0 || width > static_cast<uint32_t>(limits::kMaxImageSide) ||
+      height > static_cast<uint32_t>(limits::kMaxImageSide)) {
+    return DataLoss(path + ": PNG header claims " + std::to_string(width) + "x" + std::to_string(height) +
+                    " pixels (each side must be 1-" + std::to_string(limits::kMaxImageSide) + ")");
+  }
+  return ImageSize{static_cast<int>(width), static_cast<int>(height)};
 }
 
 StatusOr<ColourImage> ReadColourPng(const std::string& path) {

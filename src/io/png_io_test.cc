@@ -39,7 +39,7 @@ TEST(PngIoTest, Gray16RoundTrip) {
   ASSERT_TRUE(depth.ok());
   EXPECT_EQ(depth->at(0, 0), 0.f);
   EXPECT_EQ(depth->at(1, 1), static_cast<float>(10000 * 1e-4));
-  EXPECT_EQ(depth->at(2, 1), static_cast<float>(65535 * 1e-4));
+  EXPECT_EQ(depth->at(2, 1), 0.f);  // saturated: no measurement
 }
 
 TEST(PngIoTest, ReadsRealDepth) {
@@ -54,7 +54,7 @@ TEST(PngIoTest, ReadsRealDepth) {
   EXPECT_LT(max_m, 6.6f);  // 16-bit range at 0.1 mm
 }
 
-TEST(PngIoTest, MaskKeepsEightBitValuesAndMapsSixteenBit) {
+TEST(PngIoTest, MaskKeepsEightBitValuesAndRefusesSixteenBit) {
   StatusOr<MaskImage> label = io::ReadMaskPng(kRealLabel);
   ASSERT_TRUE(label.ok()) << label.status().ToString();
   EXPECT_EQ(label->width, 640);
@@ -65,9 +65,8 @@ TEST(PngIoTest, MaskKeepsEightBitValuesAndMapsSixteenBit) {
   const auto dir = testing::TempDir("png_mask16");
   const std::string path = (dir / "m.png").string();
   ASSERT_TRUE(io::WriteGray16Png(path, Gray16Image{2, 1, {0, 300}}).ok());
-  StatusOr<MaskImage> mask = io::ReadMaskPng(path);
-  ASSERT_TRUE(mask.ok());
-  EXPECT_EQ(mask->values, (std::vector<uint8_t>{0, 255}));
+  // A 16-bit image is no label image: refused, not binarised.
+  ExpectErrorMentions(io::ReadMaskPng(path).status(), StatusCode::kInvalidArgument, path, "at most 8 bits");
 }
 
 TEST(PngIoTest, MissingFileIsNotFound) {

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <exception>
 
+#include "core/physical_limits.h"
 #include "io/io_util.h"
 
 namespace mcpose {
@@ -12,7 +13,6 @@ namespace {
 
 constexpr const char* kHeader = "scene_id,im_id,obj_id,score,R,t,time";
 constexpr double kMmPerMetre = 1000.0;
-constexpr double kRotationTolerance = 1e-3;
 
 void AppendF(std::string* out, const char* format, double value) {
   char buffer[64];
@@ -39,6 +39,8 @@ std::string ParseLine(std::string_view line, PoseResult* r) {
   if (!io::ParseInt(io::Trim(fields[0]), &r->scene_id)) return "scene_id is not an integer";
   if (!io::ParseInt(io::Trim(fields[1]), &r->im_id)) return "im_id is not an integer";
   if (!io::ParseInt(io::Trim(fields[2]), &r->obj_id)) return "obj_id is not an integer";
+  if (r->scene_id < 0 || r->im_id < 0) return "scene_id and im_id must be >= 0";
+  if (r->obj_id < 1) return "obj_id must be a positive integer";
   if (!io::ParseDouble(io::Trim(fields[3]), &r->score) || !std::isfinite(r->score)) {
     return "score is not a finite number";
   }
@@ -54,15 +56,8 @@ std::string ParseLine(std::string_view line, PoseResult* r) {
     r->T_cam_obj.t(i) = t_mm[i] / kMmPerMetre;
   }
   // A rotation: orthonormal with determinant +1, to the precision a text file carries.
-  const Eigen::Matrix3d& Rm = r->T_cam_obj.R;
-  const double off = (Rm.transpose() * Rm - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
-  const double det = Rm.determinant();
-  if (!(off <= kRotationTolerance) || !(std::abs(det - 1.0) <= kRotationTolerance)) {
-    char text[128];
-    std::snprintf(text, sizeof text, "R is not a rotation: max |R^T R - I| = %.3g, det = %.6g (tolerance %g)",
-                  off, det, kRotationTolerance);
-    return text;
-  }
+  if (std::string problem = limits::CheckRotation(r->T_cam_obj.R); !problem.empty()) return problem;
+  if (std::string problem = limits::CheckCoordinates(r->T_cam_obj.t); !problem.empty()) return "t: " + problem;
   return {};
 }
 

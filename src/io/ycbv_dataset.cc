@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <map>
 
+#include "core/physical_limits.h"
 #include "io/io_util.h"
 #include "io/obj_io.h"
 #include "io/png_io.h"
@@ -40,10 +41,45 @@ std::string DimsString(const std::vector<size_t>& dims) {
   return s;
 }
 
-// Reads variable `name` of any real numeric class. Errors name `path` and `name`.
-StatusOr<MatArray> ReadMatArray(mat_t* mat, const std::string& path, const char* name) {
+// The element count of `dims`, or 0 if it exceeds limits::kMaxMatElements (or overflows).
+size_t BoundedElementCount(const size_t* dims, int rank) {
+  size_t n = 1;
+  for (int i = 0; i < rank; ++i) {
+    if (dims[i] != 0 && n > limits::kMaxMatElements / dims[i]) return 0;
+    n *= dims[i];
+  }
+  return n <= limits::kMaxMatElements ? n : 0;
+}
+
+// Reads variable `name` of any real numeric class. Its header is read first and its size
+// checked against limits::kMaxMatElements and the file size, so a header that lies cannot make
+// libmatio allocate for it. Errors name `path` and `name`.
+StatusOr<MatArray> ReadMatArray(mat_t* mat, const std::string& path, size_t file_bytes, const char* name) {
+  matvar_t* info = Mat_VarReadInfo(mat, name);
+  if (!info) return InvalidArgument(path + ": variable '" + name + "' is missing or unreadable");
+  const size_t claimed = info->rank > 0 && info->dims ? BoundedElementCount(info->dims, info->rank) : 0;
+  const size_t claimed_dims_rank = static_cast<size_t>(std::max(info->rank, 0));
+  std::vector<size_t> claimed_dims(info->dims, info->dims + (info->dims ? claimed_dims_rank : 0));
+  const bool compressed = info->compression != MAT_COMPRESSION_NONE;
+  const size_t claimed_element_bytes = Mat_SizeOfClass(info->class_type);
+  Mat_VarFree(info);
+  // Uncompressed data must fit in the file; zlib inflates at most about 1032:1.
+  const double max_bytes = (compressed ? 1032.0 : 1.0) * static_cast<double>(file_bytes);
+  if (claimed == 0 && !claimed_dims.empty() &&
+      std::none_of(claimed_dims.begin(), claimed_dims.end(), [](size_t d) { return d == 0; })) {
+    return InvalidArgument(path + ": variable '" + name + "' claims " + DimsString(claimed_dims) +
+                           " elements, more than the limit of " + std::to_string(limits::kMaxMatElements));
+  }
+  if (static_cast<double>(claimed) * static_cast<double>(claimed_element_bytes) > max_bytes) {
+    return InvalidArgument(path + ": variable '" + name + "' claims " + DimsString(claimed_dims) +
+                           " elements, more than the file's " + std::to_string(file_bytes) + " bytes hold");
+  }
   matvar_t* var = Mat_VarRead(mat, name);
   if (!var) return InvalidArgument(path + ": variable '" + name + "' is missing or unreadable");
+  if (var->rank <= 0 || !var->dims || BoundedElementCount(var->dims, var->rank) != claimed) {
+    Mat_VarFree(var);
+    return InvalidArgument(path + ": variable '" + name + "' changed size between its header and its data");
+  }
   MatArray array;
   array.dims.assign(var->dims, var->dims + var->rank);
   size_t n = 1;
@@ -88,29 +124,40 @@ std::vector<size_t> Squeeze(std::vector<size_t> dims) {
   return dims;
 }
 
-StatusOr<YcbvMeta> ReadMetaFromOpenFile(mat_t* mat, const std::string& path) {
+StatusOr<YcbvMeta> ReadMetaFromOpenFile(mat_t* mat, const std::string& path, size_t file_bytes) {
   YcbvMeta meta;
 
   // intrinsic_matrix: 3x3, column-major in the file.
-  MCPOSE_ASSIGN_OR_RETURN(MatArray K, ReadMatArray(mat, path, "intrinsic_matrix"));
+  MCPOSE_ASSIGN_OR_RETURN(MatArray K, ReadMatArray(mat, path, file_bytes, "intrinsic_matrix"));
   if (Squeeze(K.dims) != std::vector<size_t>{3, 3}) {
     return InvalidArgument(path + ": intrinsic_matrix must be 3x3, got " + DimsString(K.dims));
   }
   for (int r = 0; r < 3; ++r) {
     for (int c = 0; c < 3; ++c) meta.K(r, c) = K.values[r + 3 * c];
   }
+  for (const auto& [field, f] : {std::pair{"fx", meta.K(0, 0)}, std::pair{"fy", meta.K(1, 1)}}) {
+    if (const std::string problem = limits::CheckFocal(field, f); !problem.empty())
+      return InvalidArgument(path + ": intrinsic_matrix: " + problem);
+  }
+  for (const auto& [field, c] : {std::pair{"cx", meta.K(0, 2)}, std::pair{"cy", meta.K(1, 2)}}) {
+    if (!(c >= 0 && c <= limits::kMaxImageSide))
+      return InvalidArgument(path + ": intrinsic_matrix: " + field + " = " + limits::Num(c) + " px is outside 0-" +
+                             std::to_string(limits::kMaxImageSide) + " px");
+  }
 
   // factor_depth: one positive number (uint16 in real frames, double in synthetic ones).
-  MCPOSE_ASSIGN_OR_RETURN(MatArray factor, ReadMatArray(mat, path, "factor_depth"));
+  MCPOSE_ASSIGN_OR_RETURN(MatArray factor, ReadMatArray(mat, path, file_bytes, "factor_depth"));
   if (factor.values.size() != 1 || !(factor.values[0] > 0)) {
     return InvalidArgument(path + ": factor_depth must be one positive number, got " +
                            (factor.values.size() == 1 ? std::to_string(factor.values[0])
                                                       : DimsString(factor.dims) + " values"));
   }
   meta.factor_depth = factor.values[0];
+  if (const std::string problem = limits::CheckDepthScale(1.0 / meta.factor_depth); !problem.empty())
+    return InvalidArgument(path + ": factor_depth = " + limits::Num(meta.factor_depth) + ": " + problem);
 
   // cls_indexes: N positive integers (uint8 Nx1 or single 1xN).
-  MCPOSE_ASSIGN_OR_RETURN(MatArray cls, ReadMatArray(mat, path, "cls_indexes"));
+  MCPOSE_ASSIGN_OR_RETURN(MatArray cls, ReadMatArray(mat, path, file_bytes, "cls_indexes"));
   const std::vector<size_t> cls_dims = Squeeze(cls.dims);
   if (cls_dims.size() != 2 || std::min(cls_dims[0], cls_dims[1]) != 1) {
     return InvalidArgument(path + ": cls_indexes must be a vector, got " + DimsString(cls.dims));
@@ -126,7 +173,7 @@ StatusOr<YcbvMeta> ReadMetaFromOpenFile(mat_t* mat, const std::string& path) {
   const size_t n = meta.cls_indexes.size();
 
   // poses: 3x4xN, or 3x4 when N = 1; column-major, element (r, c, k) at r + 3 c + 12 k.
-  MCPOSE_ASSIGN_OR_RETURN(MatArray poses, ReadMatArray(mat, path, "poses"));
+  MCPOSE_ASSIGN_OR_RETURN(MatArray poses, ReadMatArray(mat, path, file_bytes, "poses"));
   const std::vector<size_t> pose_dims = Squeeze(poses.dims);
   const bool shape_ok = pose_dims.size() >= 2 && pose_dims.size() <= 3 && pose_dims[0] == 3 &&
                         pose_dims[1] == 4 && (pose_dims.size() == 3 ? pose_dims[2] : 1) == n;
@@ -140,9 +187,23 @@ StatusOr<YcbvMeta> ReadMetaFromOpenFile(mat_t* mat, const std::string& path) {
       for (int c = 0; c < 3; ++c) T.R(r, c) = poses.values[r + 3 * c + 12 * k];
       T.t(r) = poses.values[r + 3 * 3 + 12 * k];
     }
+    const std::string where = path + ": poses[:, :, " + std::to_string(k) + "] (cls_indexes " +
+                              std::to_string(meta.cls_indexes[k]) + "): ";
+    if (const std::string problem = limits::CheckRotation(T.R); !problem.empty())
+      return InvalidArgument(where + problem);
+    if (const std::string problem = limits::CheckCoordinates(T.t); !problem.empty())
+      return InvalidArgument(where + "translation " + problem);
     meta.poses.push_back(T);
   }
   return meta;
+}
+
+// Ok if the image at `path` has the size of the depth image at `depth_path`.
+Status CheckSameSize(const std::string& path, ImageSize size, const std::string& depth_path, int width, int height) {
+  if (size.width == width && size.height == height) return Status::Ok();
+  return InvalidArgument(path + ": image is " + std::to_string(size.width) + "x" + std::to_string(size.height) +
+                         " but the depth image " + depth_path + " of its frame is " + std::to_string(width) + "x" +
+                         std::to_string(height));
 }
 
 std::string ObjName(int obj_id) {
@@ -216,6 +277,7 @@ class YcbvDataset final : public Dataset {
     MCPOSE_ASSIGN_OR_RETURN(YcbvMeta meta, ReadYcbvMeta(meta_path));
 
     // Depth in metres; the PNG gives the image size.
+    std::error_code ec;
     Frame frame;
     frame.key = key;
     frame.depth_path = prefix + "-depth.png";
@@ -239,6 +301,14 @@ class YcbvDataset final : public Dataset {
                              " does not contain the principal point of " + meta_path);
     }
 
+    // The colour and label images of the frame, where present, must have the depth's size.
+    for (const char* suffix : {"-color.png", "-label.png"}) {
+      const std::string path = prefix + suffix;
+      if (!fs::exists(path, ec)) continue;
+      MCPOSE_ASSIGN_OR_RETURN(const ImageSize size, ReadPngSize(path));
+      MCPOSE_RETURN_IF_ERROR(CheckSameSize(path, size, frame.depth_path, frame.depth.width, frame.depth.height));
+    }
+
     // Ground truth in meta.mat order.
     for (size_t i = 0; i < meta.poses.size(); ++i) {
       const int obj_id = meta.cls_indexes[i];
@@ -260,6 +330,10 @@ class YcbvDataset final : public Dataset {
                              " cannot appear in an 8-bit label image");
     }
     MCPOSE_ASSIGN_OR_RETURN(MaskImage mask, ReadMaskPng(label_path));
+    const std::string depth_path = prefix + "-depth.png";
+    MCPOSE_ASSIGN_OR_RETURN(const ImageSize depth_size, ReadPngSize(depth_path));
+    MCPOSE_RETURN_IF_ERROR(
+        CheckSameSize(label_path, {mask.width, mask.height}, depth_path, depth_size.width, depth_size.height));
     for (uint8_t& v : mask.values) v = (v == gt.obj_id) ? 255 : 0;
     return mask;
   }
@@ -379,11 +453,19 @@ StatusOr<std::unique_ptr<Dataset>> OpenYcbv(const std::string& root, const std::
 StatusOr<YcbvMeta> ReadYcbvMeta(const std::string& path) {
   std::error_code ec;
   if (!fs::exists(path, ec)) return NotFound(path + ": file does not exist");
+  // Only MATLAB 5 files: a 128-byte header ending in version 0x0100 and the "IM"/"MI" endian
+  // mark. Other formats (v7.3 is HDF5) are not opened at all.
+  MCPOSE_ASSIGN_OR_RETURN(const std::string bytes, ReadFileToString(path));
+  constexpr size_t kMat5HeaderBytes = 128;
+  const bool mat5 = bytes.size() > kMat5HeaderBytes &&
+                    ((bytes.compare(124, 4, std::string("\x00\x01IM", 4)) == 0) ||
+                     (bytes.compare(124, 4, std::string("\x01\x00MI", 4)) == 0));
+  if (!mat5) return DataLoss(path + ": not a MATLAB 5 MAT-file (header of " + std::to_string(bytes.size()) + " bytes)");
   mat_t* mat = Mat_Open(path.c_str(), MAT_ACC_RDONLY);
   if (!mat) return DataLoss(path + ": not a readable MATLAB MAT-file");
   StatusOr<YcbvMeta> meta = InvalidArgument(path + ": not read");
   try {
-    meta = ReadMetaFromOpenFile(mat, path);
+    meta = ReadMetaFromOpenFile(mat, path, bytes.size());
   } catch (const std::exception& e) {
     meta = Internal(path + ": MAT-file read failed (" + e.what() + ")");
   }
@@ -464,6 +546,10 @@ StatusOr<std::vector<Eigen::Vector3f>> ReadXyzPoints(const std::string& path) {
       return InvalidArgument(path + ": line " + std::to_string(i + 1) +
                              ": expected 'x y z' (finite numbers), got '" +
                              std::string(Trim(lines[i])) + "'");
+    }
+    if (const std::string problem = limits::CheckCoordinates(Eigen::Vector3d(xyz[0], xyz[1], xyz[2]));
+        !problem.empty()) {
+      return InvalidArgument(path + ": line " + std::to_string(i + 1) + ": " + problem);
     }
     points.emplace_back(static_cast<float>(xyz[0]), static_cast<float>(xyz[1]),
                         static_cast<float>(xyz[2]));

@@ -210,7 +210,7 @@ TEST(YcbvDatasetIoTest, BadIntrinsicsNameTheMetaFile) {
     double fx;
     const char* message;
   } cases[] = {{"ycbv_nan_k", std::numeric_limits<double>::quiet_NaN(), "non-finite"},
-               {"ycbv_zero_k", 0.0, "focal lengths must be positive"}};
+               {"ycbv_zero_k", 0.0, "fx = 0 px is outside 1-100000 px"}};
   for (const Case& c : cases) {
     io::YcbvMeta bad = *meta;
     bad.K(0, 0) = c.fx;

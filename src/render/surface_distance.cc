@@ -67,6 +67,18 @@ std::vector<Vec3> SurfaceSamples(const Mesh& mesh, bool vertices, bool centroids
   return out;
 }
 
+namespace {
+
+// floor(x) clamped to 0..n-1, defined for any float (NaN and values beyond int give an end cell;
+// a plain cast of those would be undefined).
+int ClampedCell(float x, int n) {
+  if (!(x > 0.f)) return 0;
+  if (x >= static_cast<float>(n - 1)) return n - 1;
+  return static_cast<int>(x);
+}
+
+}  // namespace
+
 TriangleGrid::TriangleGrid(const Mesh& mesh) : mesh_(mesh) {
   if (mesh.triangles.empty()) return;
   tested_by_.assign(mesh.triangles.size(), 0u);
@@ -78,13 +90,13 @@ TriangleGrid::TriangleGrid(const Mesh& mesh) : mesh_(mesh) {
   const int cells = std::clamp(static_cast<int>(1.5 * std::cbrt(static_cast<double>(mesh.triangles.size()))), 1, 64);
   cell_ = extent > 0 ? extent / static_cast<float>(cells) : 1.f;
   lo_ = lo;
-  for (int k = 0; k < 3; ++k) n_[k] = std::clamp(static_cast<int>((hi[k] - lo[k]) / cell_) + 1, 1, cells + 1);
+  for (int k = 0; k < 3; ++k) n_[k] = ClampedCell((hi[k] - lo[k]) / cell_, cells + 1) + 1;
 
   auto cell_range = [&](const std::array<uint32_t, 3>& t, int k, int* c0, int* c1) {
     float a = mesh.vertices_m[t[0]][k], b = a;
     for (int i = 1; i < 3; ++i) a = std::min(a, mesh.vertices_m[t[i]][k]), b = std::max(b, mesh.vertices_m[t[i]][k]);
-    *c0 = std::clamp(static_cast<int>((a - lo_[k]) / cell_), 0, n_[k] - 1);
-    *c1 = std::clamp(static_cast<int>((b - lo_[k]) / cell_), 0, n_[k] - 1);
+    *c0 = ClampedCell((a - lo_[k]) / cell_, n_[k]);
+    *c1 = ClampedCell((b - lo_[k]) / cell_, n_[k]);
   };
   const size_t num_cells = static_cast<size_t>(n_[0]) * n_[1] * n_[2];
   start_.assign(num_cells + 1, 0);
@@ -119,7 +131,7 @@ TriangleGrid::Nearest TriangleGrid::Search(const Vec3& p, float enough) const {
   // The cell of p's nearest point in the grid's box, then rings of cells around it (cells r
   // away in the max norm), until the nearest triangle found is nearer than any cell outside.
   int c[3];
-  for (int k = 0; k < 3; ++k) c[k] = std::clamp(static_cast<int>(std::floor((p[k] - lo_[k]) / cell_)), 0, n_[k] - 1);
+  for (int k = 0; k < 3; ++k) c[k] = ClampedCell((p[k] - lo_[k]) / cell_, n_[k]);
   if (++query_ == 0) {  // the counter wrapped: no triangle may look tested
     std::fill(tested_by_.begin(), tested_by_.end(), 0u);
     query_ = 1;

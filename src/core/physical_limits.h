@@ -1,0 +1,90 @@
+// The ranges a real sensor or dataset can produce, checked by every file reader at the
+// boundary. A value outside them is refused with a message naming the file and the field;
+// nothing past the readers needs to guard against it. docs/usage.md ("Input checking") states
+// the same limits for users.
+#pragma once
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <string>
+
+#include <Eigen/Core>
+
+namespace mcpose::limits {
+
+// Images: the largest side of any image read (depth, colour, label, texture), checked against
+// the header before a pixel buffer is allocated.
+inline constexpr int kMaxImageSide = 16384;
+
+// Intrinsics: focal lengths in pixels.
+inline constexpr double kMinFocalPx = 1.0;
+inline constexpr double kMaxFocalPx = 100000.0;
+
+// Depth scale: the largest 16-bit depth value, 65535 units, must lie between 1 cm and 100 m.
+inline constexpr double kMinDepthRangeM = 0.01;
+inline constexpr double kMaxDepthRangeM = 100.0;
+inline constexpr uint16_t kSaturatedDepth = 65535;  // a sensor's "out of range": no measurement
+
+// Mesh vertices, evaluation points and pose translations: finite and under 100 m in every
+// coordinate.
+inline constexpr double kMaxCoordinateM = 100.0;
+
+// Rotations: max |R^T R - I| and |det R - 1| at most this (what a text file of 9 numbers carries).
+inline constexpr double kRotationTolerance = 1e-3;
+
+// MAT-file variables: at most this many elements (a YCB-Video meta.mat holds a few hundred).
+inline constexpr size_t kMaxMatElements = size_t{1} << 20;
+
+// Detector boxes: corner and sides within this many pixels of the origin.
+inline constexpr double kMaxBoxPx = 4.0 * kMaxImageSide;
+
+// "%g" of a value, for messages.
+inline std::string Num(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", v);
+  return text;
+}
+
+// Empty if 1 <= f <= 100,000 px, else what is wrong with focal length `name`.
+inline std::string CheckFocal(const char* name, double f) {
+  if (std::isfinite(f) && f >= kMinFocalPx && f <= kMaxFocalPx) return {};
+  return std::string(name) + " = " + Num(f) + " px is outside " + Num(kMinFocalPx) + "-" + Num(kMaxFocalPx) + " px";
+}
+
+// Empty if the largest 16-bit value times `metres_per_unit` lies in 1 cm-100 m.
+inline std::string CheckDepthScale(double metres_per_unit) {
+  const double largest_m = 65535.0 * metres_per_unit;
+  if (std::isfinite(largest_m) && largest_m >= kMinDepthRangeM && largest_m <= kMaxDepthRangeM) return {};
+  return "depth scale " + Num(metres_per_unit) + " m per unit puts the largest depth at " + Num(largest_m) +
+         " m, outside " + Num(kMinDepthRangeM) + "-" + Num(kMaxDepthRangeM) + " m";
+}
+
+// True if `v` is finite and under 100 m in magnitude.
+inline bool CoordinateOk(double v) { return std::isfinite(v) && std::abs(v) < kMaxCoordinateM; }
+
+// Empty if each coordinate of `p` (metres) is finite and under 100 m, else the problem.
+template <typename Derived>
+std::string CheckCoordinates(const Eigen::MatrixBase<Derived>& p) {
+  for (int k = 0; k < p.size(); ++k) {
+    if (!CoordinateOk(static_cast<double>(p(k)))) {
+      return std::string(1, "xyz"[k % 3]) + " = " + Num(static_cast<double>(p(k))) +
+             " m is not finite or not under " + Num(kMaxCoordinateM) + " m";
+    }
+  }
+  return {};
+}
+
+// Empty if `R` is a rotation (orthonormal, det +1, within kRotationTolerance), else the numbers.
+inline std::string CheckRotation(const Eigen::Matrix3d& R) {
+  const double off = (R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+  const double det = R.determinant();
+  if (off <= kRotationTolerance && std::abs(det - 1.0) <= kRotationTolerance) return {};
+  char text[128];
+  std::snprintf(text, sizeof text, "R is not a rotation: max |R^T R - I| = %.3g, det = %.6g (tolerance %g)", off, det,
+                kRotationTolerance);
+  return text;
+}
+
+}  // namespace mcpose::limits
