@@ -6,6 +6,7 @@
 # Usage: scripts/fuzz.sh [SECONDS]     Data: ../shared/data beside the repository, or $MCPOSE_DATA_DIR.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+scripts/install_deps.sh
 SECONDS_EACH="${1:-60}"
 DATA="${MCPOSE_DATA_DIR:-$(pwd)/../shared/data}"
 Y="$DATA/ycbv"

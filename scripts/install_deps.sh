@@ -11,6 +11,7 @@ PACKAGES=(
   libhwy-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libembree-dev libosmesa6-dev
+  clang libclang-rt-14-dev
   chromium fonts-dejavu-core pngquant
 )
 missing=()

@@ -53,7 +53,11 @@ template <class DF, class V>
 HWY_INLINE auto RoundToInt(DF df, V f) {
   const hn::RebindToSigned<DF> di;
   const auto magic = hn::Set(df, 12582912.0f);  // 1.5 * 2^23
-  return hn::ConvertTo(di, hn::Sub(hn::Add(f, magic), magic));
+  const auto rounded = hn::Sub(hn::Add(f, magic), magic);
+  // Lanes beyond int (or NaN) are zeroed first: their result is unused, and converting them is
+  // undefined on the scalar target.
+  const auto in_int_range = hn::Lt(hn::Abs(rounded), hn::Set(df, 2147483520.0f));
+  return hn::ConvertTo(di, hn::IfThenElseZero(in_int_range, rounded));
 }
 
 template <class DF>

@@ -471,7 +471,7 @@ TEST(ProjectSimd, BitIdenticalToScalarOnEveryTarget) {
       std::vector<ScreenVertex> a(v.size()), b(v.size());
       ProjectVertices(v, R, t, p, a);
       ProjectVerticesSimd(v, R, t, p, b);
-      ASSERT_EQ(0, std::memcmp(a.data(), b.data(), a.size() * sizeof(ScreenVertex)))
+      ASSERT_TRUE(a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(ScreenVertex)) == 0)
           << hwy::TargetName(target) << " trial " << trial;
       const PixelRect ra = CoverBound(a, p.box), rb = CoverBoundSimd(a, p.box);
       EXPECT_TRUE(ra.x0 == rb.x0 && ra.y0 == rb.y0 && ra.x1 == rb.x1 && ra.y1 == rb.y1)
