@@ -483,7 +483,7 @@ TEST(ProjectSimd, BitIdenticalToScalarOnEveryTarget) {
       std::vector<ScreenVertex> c(v.size());
       SnappedVertices snapped;
       const PixelRect rc = ProjectSnapBoundSimd(v, R, t, p, c, &snapped);
-      ASSERT_EQ(0, std::memcmp(a.data(), c.data(), a.size() * sizeof(ScreenVertex)))
+      ASSERT_TRUE(a.empty() || std::memcmp(a.data(), c.data(), a.size() * sizeof(ScreenVertex)) == 0)
           << hwy::TargetName(target) << " trial " << trial;
       ASSERT_EQ(snapped.packed.size(), v.size());
       for (size_t i = 0; i < v.size(); ++i) {
