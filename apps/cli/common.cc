@@ -169,25 +169,6 @@ Status EstimatorFlags::Finish() {
   return Status::Ok();
 }
 
-Status WriteFileAtomically(const std::string& path, const std::string& text) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) return NotFound(path + ": cannot open for writing");
-    out << text;
-    out.flush();
-    if (!out) {
-      std::error_code ec;
-      std::filesystem::remove(tmp, ec);
-      return Internal(path + ": write failed");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) return Internal(path + ": cannot rename temporary file: " + ec.message());
-  return Status::Ok();
-}
-
 Status CheckWritable(const std::string& path) {
   namespace fs = std::filesystem;
   const fs::path p(path);

@@ -48,8 +48,6 @@ struct EstimatorFlags {
 // Registers the flags of `groups` on `cmd`, with their defaults in the help.
 void AddEstimatorFlags(CLI::App* cmd, unsigned groups, EstimatorFlags* flags);
 
-// Writes `text` to `path` through a temporary file and a rename: no partial file on error.
-Status WriteFileAtomically(const std::string& path, const std::string& text);
 // Ok if a file could be created at `path` (its folder exists and is writable).
 Status CheckWritable(const std::string& path);
 

@@ -7,6 +7,7 @@
 
 #include "cli/common.h"
 #include "commands.h"
+#include "io/io_util.h"
 #include "engine/pipeline.h"
 #include "io/options_json.h"
 #include "mcpose/dataset.h"
@@ -101,7 +102,7 @@ Status RunEstimate(EstimateArgs& a) {
     nlohmann::json doc = {
         {"dataset", a.dataset}, {"models", dataset->models_dir()}, {"detections", a.detections},
         {"options", options}, {"objects", objects}};
-    MCPOSE_RETURN_IF_ERROR(WriteFileAtomically(a.out_json, doc.dump(1) + "\n"));
+    MCPOSE_RETURN_IF_ERROR(io::WriteFileAtomic(a.out_json, doc.dump(1) + "\n"));
   }
   MCPOSE_RETURN_IF_ERROR(WriteResultsCsv(a.out, report.results));
 
