@@ -12,6 +12,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libembree-dev libosmesa6-dev
   chromium fonts-dejavu-core pngquant
+  python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-dask python3-distributed
 )
 missing=()
 for p in "${PACKAGES[@]}"; do

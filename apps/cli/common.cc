@@ -169,6 +169,28 @@ Status EstimatorFlags::Finish() {
   return Status::Ok();
 }
 
+StatusOr<EstimatorOptions> ParseEstimatorOptions(const std::vector<std::string>& args) {
+  CLI::App app{"mcpose estimator options"};
+  EstimatorFlags flags;
+  AddEstimatorFlags(&app, kAllEstimatorFlags, &flags);
+  std::vector<std::string> reversed(args.rbegin(), args.rend());  // CLI11 takes them last first
+  try {
+    app.parse(reversed);
+  } catch (const CLI::ParseError& e) {
+    return InvalidArgument(e.what());
+  }
+  MCPOSE_RETURN_IF_ERROR(flags.Finish());
+  return flags.options;
+}
+
+bool IsEstimatorSwitch(const std::string& name) {
+  CLI::App app;
+  EstimatorFlags flags;
+  AddEstimatorFlags(&app, kAllEstimatorFlags, &flags);
+  const CLI::Option* opt = app.get_option_no_throw("--" + name);
+  return opt != nullptr && opt->get_expected_min() == 0;
+}
+
 Status CheckWritable(const std::string& path) {
   namespace fs = std::filesystem;
   const fs::path p(path);
