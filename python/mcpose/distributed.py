@@ -109,7 +109,7 @@ def run(args, estimator_args, client):
         progress.step()
     progress.close()
     journal.finish()
-    return sum(len(v) for v in by_image.values())
+    return sum(len({d["category_id"] for d in dets}) for dets in by_image.values())  # a row per (image, class)
 
 
 def main(argv=None):
