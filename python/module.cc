@@ -8,6 +8,7 @@
 
 #include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
@@ -127,6 +128,44 @@ PoseResult RowFromTuple(const RowTuple& row) {
   for (int k = 0; k < 3; ++k) r.T_cam_obj.t(k) = t[k];
   return r;
 }
+
+// A dataset whose meshes are read once: a Python session or a Dask worker estimates many
+// images of the same classes, and a textured mesh takes longer to read than to estimate.
+class MeshCachingDataset final : public Dataset {
+ public:
+  explicit MeshCachingDataset(std::unique_ptr<Dataset> inner) : inner_(std::move(inner)) {}
+  DatasetFormat format() const override { return inner_->format(); }
+  const std::string& root() const override { return inner_->root(); }
+  std::vector<FrameKey> Frames() const override { return inner_->Frames(); }
+  StatusOr<Frame> LoadFrame(const FrameKey& key) const override { return inner_->LoadFrame(key); }
+  StatusOr<ColourImage> LoadColour(const Frame& frame) const override { return inner_->LoadColour(frame); }
+  std::string FrameName(const FrameKey& key) const override { return inner_->FrameName(key); }
+  StatusOr<FrameKey> ParseFrameName(const std::string& name) const override { return inner_->ParseFrameName(name); }
+  StatusOr<MaskImage> LoadVisibleMask(const FrameKey& key, const GtInstance& gt) const override {
+    return inner_->LoadVisibleMask(key, gt);
+  }
+  std::vector<int> ObjectIds() const override { return inner_->ObjectIds(); }
+  std::string ObjectName(int obj_id) const override { return inner_->ObjectName(obj_id); }
+  std::string ModelPath(int obj_id) const override { return inner_->ModelPath(obj_id); }
+  const std::string& models_dir() const override { return inner_->models_dir(); }
+  StatusOr<std::vector<Eigen::Vector3f>> LoadEvalPoints(int obj_id) const override {
+    return inner_->LoadEvalPoints(obj_id);
+  }
+  StatusOr<Mesh> LoadMesh(int obj_id) const override {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    auto it = meshes_.find(obj_id);
+    if (it == meshes_.end()) {
+      MCPOSE_ASSIGN_OR_RETURN(Mesh mesh, inner_->LoadMesh(obj_id));
+      it = meshes_.emplace(obj_id, std::move(mesh)).first;
+    }
+    return it->second;
+  }
+
+ private:
+  std::unique_ptr<Dataset> inner_;
+  mutable std::mutex mutex_;
+  mutable std::map<int, Mesh> meshes_;
+};
 
 // ---- Python-side holders ------------------------------------------------------------------
 struct PyDataset {
@@ -320,7 +359,7 @@ PYBIND11_MODULE(_mcpose, m) {
 
   py::class_<PyDataset>(m, "Dataset")
       .def(py::init([](const std::string& path, const std::string& split, const std::string& models) {
-             return PyDataset{Value(Dataset::Open(path, split, models))};
+             return PyDataset{std::make_unique<MeshCachingDataset>(Value(Dataset::Open(path, split, models)))};
            }),
            py::arg("path"), py::arg("split") = "test", py::arg("models") = "")
       .def_property_readonly("root", [](const PyDataset& s) { return s.ds->root(); })
