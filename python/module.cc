@@ -326,7 +326,8 @@ PYBIND11_MODULE(_mcpose, m) {
   py::class_<PyFrame>(m, "Frame")
       .def_property_readonly("scene_id", [](const PyFrame& s) { return s.frame.key.scene_id; })
       .def_property_readonly("image_id", [](const PyFrame& s) { return s.frame.key.image_id; })
-      .def_property_readonly("key", [](const PyFrame& s) { return py::make_tuple(s.frame.key.scene_id, s.frame.key.image_id); })
+      .def_property_readonly("key", [](const PyFrame& s) { return py::make_tuple(s.frame.key.scene_id, s.frame.key.image_id); },
+                             "(scene_id, image_id)")
       .def_property_readonly("width", [](const PyFrame& s) { return s.frame.K.width; })
       .def_property_readonly("height", [](const PyFrame& s) { return s.frame.K.height; })
       .def_property_readonly("K", [](const PyFrame& s) {
@@ -336,16 +337,16 @@ PYBIND11_MODULE(_mcpose, m) {
           for (int j = 0; j < 3; ++j) k(i, j) = 0;
         k(0, 0) = s.frame.K.fx, k(1, 1) = s.frame.K.fy, k(0, 2) = s.frame.K.cx, k(1, 2) = s.frame.K.cy, k(2, 2) = 1;
         return K;
-      })
+      }, "(3, 3) float64 intrinsics, pixels; pixel centres at integer coordinates")
       .def_property_readonly("depth", [](py::object self) {
         const PyFrame& s = self.cast<const PyFrame&>();
         return View(s.frame.depth.depth_m.data(), {s.frame.depth.height, s.frame.depth.width}, self);
-      })
+      }, "(H, W) float32 depth, metres, 0 = no measurement (read-only view, no copy)")
       .def_property_readonly("gt_obj_ids", [](const PyFrame& s) {
         py::array_t<int32_t> ids(static_cast<py::ssize_t>(s.frame.gt.size()));
         for (size_t i = 0; i < s.frame.gt.size(); ++i) ids.mutable_at(i) = s.frame.gt[i].obj_id;
         return ids;
-      })
+      }, "(N,) int32 obj_ids of the ground-truth instances")
       .def_property_readonly("gt_T_cam_obj", [](const PyFrame& s) {
         py::array_t<double> T({static_cast<py::ssize_t>(s.frame.gt.size()), py::ssize_t{4}, py::ssize_t{4}});
         auto w = T.mutable_unchecked<3>();
@@ -355,7 +356,7 @@ PYBIND11_MODULE(_mcpose, m) {
             for (int j = 0; j < 4; ++j) w(n, i, j) = M(i, j);
         }
         return T;
-      });
+      }, "(N, 4, 4) float64 ground-truth poses, model to camera, metres");
 
   py::class_<PyDataset>(m, "Dataset")
       .def(py::init([](const std::string& path, const std::string& split, const std::string& models) {

@@ -47,7 +47,9 @@ def test_worker_killed_mid_run(cli_run, run_detections, tmp_path):
                 break
             time.sleep(0.02)
         assert p.poll() is None, "the run ended before a worker could be killed"
-        victim = next(iter(pids.values()))
+        busy = [address for address, keys in client.processing().items() if keys]
+        assert busy, "no worker holds an image"
+        victim = pids[busy[0]]  # a worker with an image in hand
         os.kill(victim, signal.SIGKILL)
         try:
             stdout, stderr = p.communicate(timeout=300)
