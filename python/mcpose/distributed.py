@@ -90,19 +90,19 @@ def run(args, estimator_args, client):
     for d in detections:
         by_image.setdefault((d["scene_id"], d["image_id"]), []).append(d)
     journal = _mcpose.ResultsJournal(args.out, estimator.fingerprint(detections), args.resume)
-    todo = [k for k in sorted(by_image) if not journal.has(*k)]
+    pending = [k for k in sorted(by_image) if not journal.has(*k)]
     if journal.kept_images and not args.quiet:
         print(f"resuming: {journal.kept_images} finished images kept from {args.out}.partial", file=sys.stderr)
 
     from distributed import as_completed
     futures = {}
-    for key in todo:
+    for key in pending:
         fut = client.submit(_estimate_image, os.path.abspath(args.dataset), args.split,
                             os.path.abspath(args.models) if args.models else "", estimator_args,
                             by_image[key], args.detections, key=f"mcpose-image-{key[0]}-{key[1]}-{os.getpid()}",
                             retries=args.retries, pure=False)
         futures[fut] = key
-    progress = _Progress(len(by_image), len(by_image) - len(todo), args.quiet)
+    progress = _Progress(len(by_image), len(by_image) - len(pending), args.quiet)
     for fut in as_completed(futures):
         key = futures[fut]
         journal.append(key[0], key[1], fut.result())
