@@ -13,6 +13,7 @@ PACKAGES=(
   libembree-dev libosmesa6-dev
   clang libclang-rt-14-dev
   chromium fonts-dejavu-core pngquant
+  python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-dask python3-distributed
 )
 missing=()
 for p in "${PACKAGES[@]}"; do

@@ -5,13 +5,13 @@
 
 #include "analysis/depth_ambiguity.h"
 #include "cli/common.h"
+#include "io/io_util.h"
 #include "tools.h"
 #include "mcpose/dataset.h"
 
 namespace mcpose::tools {
 
 using cli::CheckWritable;
-using cli::WriteFileAtomically;
 
 namespace {
 
@@ -59,7 +59,7 @@ Status RunAmbiguity(const AmbiguityArgs& a) {
                                        {"mean_equivalent", report.overall.mean_equivalent},
                                        {"ceiling", report.overall.ceiling}}},
                           {"per_object", rows}, {"instances", inst}};
-    MCPOSE_RETURN_IF_ERROR(WriteFileAtomically(a.json, doc.dump(1) + "\n"));
+    MCPOSE_RETURN_IF_ERROR(io::WriteFileAtomic(a.json, doc.dump(1) + "\n"));
   }
   return Status::Ok();
 }

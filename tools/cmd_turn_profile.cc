@@ -9,6 +9,7 @@
 #include "analysis/turn_profile.h"
 #include "engine/twins.h"
 #include "cli/common.h"
+#include "io/io_util.h"
 #include "tools.h"
 #include "mcpose/dataset.h"
 #include "mcpose/detection.h"
@@ -17,7 +18,6 @@
 namespace mcpose::tools {
 
 using cli::CheckWritable;
-using cli::WriteFileAtomically;
 
 namespace {
 
@@ -107,7 +107,7 @@ Status RunTurnProfile(TurnProfileArgs& a) {
                           {"pixel_stride", o.engine.pixel_stride}, {"max_grid_pixels", o.engine.max_grid_pixels},
                           {"mean_jitter", sum_jitter / n}, {"mean_range", sum_range / n},
                           {"mean_beaten", sum_beaten / n}, {"instances", instances}};
-    MCPOSE_RETURN_IF_ERROR(WriteFileAtomically(a.json, doc.dump(1) + "\n"));
+    MCPOSE_RETURN_IF_ERROR(io::WriteFileAtomic(a.json, doc.dump(1) + "\n"));
   }
   return Status::Ok();
 }

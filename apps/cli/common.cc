@@ -169,23 +169,26 @@ Status EstimatorFlags::Finish() {
   return Status::Ok();
 }
 
-Status WriteFileAtomically(const std::string& path, const std::string& text) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) return NotFound(path + ": cannot open for writing");
-    out << text;
-    out.flush();
-    if (!out) {
-      std::error_code ec;
-      std::filesystem::remove(tmp, ec);
-      return Internal(path + ": write failed");
-    }
+StatusOr<EstimatorOptions> ParseEstimatorOptions(const std::vector<std::string>& args) {
+  CLI::App app{"mcpose estimator options"};
+  EstimatorFlags flags;
+  AddEstimatorFlags(&app, kAllEstimatorFlags, &flags);
+  std::vector<std::string> reversed(args.rbegin(), args.rend());  // CLI11 takes them last first
+  try {
+    app.parse(reversed);
+  } catch (const CLI::ParseError& e) {
+    return InvalidArgument(e.what());
   }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) return Internal(path + ": cannot rename temporary file: " + ec.message());
-  return Status::Ok();
+  MCPOSE_RETURN_IF_ERROR(flags.Finish());
+  return flags.options;
+}
+
+bool IsEstimatorSwitch(const std::string& name) {
+  CLI::App app;
+  EstimatorFlags flags;
+  AddEstimatorFlags(&app, kAllEstimatorFlags, &flags);
+  const CLI::Option* opt = app.get_option_no_throw("--" + name);
+  return opt != nullptr && opt->get_expected_min() == 0;
 }
 
 void RemoveOutput(const std::string& path) {

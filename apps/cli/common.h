@@ -48,10 +48,17 @@ struct EstimatorFlags {
 // Registers the flags of `groups` on `cmd`, with their defaults in the help.
 void AddEstimatorFlags(CLI::App* cmd, unsigned groups, EstimatorFlags* flags);
 
-// Writes `text` to `path` through a temporary file and a rename: no partial file on error.
-Status WriteFileAtomically(const std::string& path, const std::string& text);
+// The estimator's options from `args` ("--samples", "300", "--no-resolve-twins", ...), parsed
+// as `mcpose estimate` parses its flags: the same defaults, checks and one-line messages. For
+// front ends other than the command line (the Python package).
+StatusOr<EstimatorOptions> ParseEstimatorOptions(const std::vector<std::string>& args);
+// Whether estimator flag `name` ("resolve-twins") is a switch (--name / --no-name) rather than
+// an option taking a value; false for an unknown name.
+bool IsEstimatorSwitch(const std::string& name);
+
 // Removes the output file at `path` (if any; empty: nothing), when a later output failed.
 void RemoveOutput(const std::string& path);
+
 // Ok if a file could be created at `path` (its folder exists and is writable).
 Status CheckWritable(const std::string& path);
 

@@ -6,6 +6,7 @@
 
 #include "bench/bench.h"
 #include "cli/common.h"
+#include "io/io_util.h"
 #include "commands.h"
 #include "io/options_json.h"
 #include "mcpose/dataset.h"
@@ -154,7 +155,7 @@ Status RunBenchCommand(BenchArgs& a) {
                             {"threads", objects.empty() ? o.engine.threads : objects[0].threads}}},
                           {"options", options},
                           {"objects", arr}};
-    MCPOSE_RETURN_IF_ERROR(WriteFileAtomically(a.json, doc.dump(1) + "\n"));
+    MCPOSE_RETURN_IF_ERROR(io::WriteFileAtomic(a.json, doc.dump(1) + "\n"));
   }
   return Status::Ok();
 }

@@ -6,9 +6,11 @@
 #include <spdlog/spdlog.h>
 
 #include "cli/common.h"
+#include "io/io_util.h"
 #include "commands.h"
 #include "engine/pipeline.h"
 #include "io/options_json.h"
+#include "io/results_journal.h"
 #include "mcpose/dataset.h"
 #include "mcpose/detection.h"
 #include "mcpose/results.h"
@@ -20,7 +22,7 @@ namespace {
 struct EstimateArgs {
   std::string dataset, split = "test", models, detections, out, out_json;
   std::vector<int> scenes;
-  bool quiet = false;
+  bool quiet = false, resume = false;
   EstimatorFlags flags;
 };
 
@@ -83,6 +85,15 @@ Status RunEstimate(EstimateArgs& a) {
     if (detections.empty()) return InvalidArgument(a.detections + ": holds no detections of the scenes given by --scene");
   }
 
+  if (a.resume && !a.out_json.empty())
+    return InvalidArgument("--out-json cannot be combined with --resume: the detail of the images an earlier run "
+                           "finished is not kept");
+  // Each finished image goes to the journal OUT.partial at once; the CSV is written at the end.
+  MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<io::ResultsJournal> journal,
+                          io::ResultsJournal::Open(a.out, io::RunFingerprint(o, detections), a.resume));
+  if (journal->kept_images() > 0 && !a.quiet)
+    spdlog::info("resuming: {} finished images kept from {}", journal->kept_images(), io::JournalPath(a.out));
+
   // ---- Run ------------------------------------------------------------------------------
   auto progress = [&](int done, int total, const ObjectRecord& r) {
     if (a.quiet) return;
@@ -90,7 +101,12 @@ Status RunEstimate(EstimateArgs& a) {
                  done, total, r.key.scene_id, r.key.image_id, r.obj_id, r.name, r.num_boxes,
                  r.estimate.iterations.size(), r.estimate.best_weight, r.estimate.final_mean_weight(), r.time_s);
   };
-  MCPOSE_ASSIGN_OR_RETURN(RunReport report, RunEstimation(*dataset, detections, a.detections, o, progress));
+  const auto image_done = [&](const FrameKey& key, const std::vector<PoseResult>& rows) {
+    return journal->Append(key, rows);
+  };
+  const auto skip = [&](const FrameKey& key) { return journal->Has(key); };
+  MCPOSE_ASSIGN_OR_RETURN(RunReport report,
+                          RunEstimation(*dataset, detections, a.detections, o, progress, image_done, skip));
 
   // ---- Outputs: written only after everything succeeded ---------------------------------
   if (!a.out_json.empty()) {
@@ -101,9 +117,9 @@ Status RunEstimate(EstimateArgs& a) {
     nlohmann::json doc = {
         {"dataset", a.dataset}, {"models", dataset->models_dir()}, {"detections", a.detections},
         {"options", options}, {"objects", objects}};
-    MCPOSE_RETURN_IF_ERROR(WriteFileAtomically(a.out_json, doc.dump(1) + "\n"));
+    MCPOSE_RETURN_IF_ERROR(io::WriteFileAtomic(a.out_json, doc.dump(1) + "\n"));
   }
-  if (Status written = WriteResultsCsv(a.out, report.results); !written.ok()) {
+  if (Status written = journal->Finish(); !written.ok()) {
     RemoveOutput(a.out_json);  // no half of the outputs is left behind
     return written;
   }
@@ -112,8 +128,10 @@ Status RunEstimate(EstimateArgs& a) {
     double total_s = 0;
     size_t iterations = 0;
     for (const auto& r : report.objects) total_s += r.time_s, iterations += r.estimate.iterations.size();
+    size_t rows = 0;
+    for (const auto& [key, image_rows] : journal->images()) rows += image_rows.size();
     std::printf("%zu objects in %zu result rows, %.1f s, %.1f ms per iteration; results: %s\n",
-                report.objects.size(), report.results.size(), total_s,
+                report.objects.size(), rows, total_s,
                 iterations ? 1000.0 * total_s / static_cast<double>(iterations) : 0.0, a.out.c_str());
   }
   return Status::Ok();
@@ -134,6 +152,8 @@ void AddEstimateCommand(CLI::App& app, Status* status) {
   cmd->add_option("--out", args->out, "Results CSV (BOP format: scene_id,im_id,obj_id,score,R,t,time)")->required();
   cmd->add_option("--out-json", args->out_json, "Per-object detail: chosen box, per-iteration weights and times, engine counters");
   AddEstimatorFlags(cmd, kAllEstimatorFlags, &args->flags);
+  cmd->add_flag("--resume", args->resume,
+                "Continue a run that was killed: keep the images its journal OUT.partial finished, estimate the rest");
   cmd->add_flag("-q,--quiet", args->quiet, "No progress output");
   cmd->callback([args, status] { *status = RunEstimate(*args); });
 }

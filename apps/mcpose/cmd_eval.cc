@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/common.h"
+#include "io/io_util.h"
 #include "commands.h"
 #include "mcpose/dataset.h"
 #include "mcpose/detection.h"
@@ -82,7 +83,7 @@ Status RunEval(const EvalArgs& a) {
     nlohmann::json doc = {{"results", a.results}, {"overall", SummaryJson(report.overall)},
                           {"per_object", per_object}, {"unmatched_rows", report.unmatched_rows},
                           {"instances", inst}};
-    MCPOSE_RETURN_IF_ERROR(WriteFileAtomically(a.json, doc.dump(1) + "\n"));
+    MCPOSE_RETURN_IF_ERROR(io::WriteFileAtomic(a.json, doc.dump(1) + "\n"));
   }
   return Status::Ok();
 }

@@ -10,6 +10,7 @@
 #include <spdlog/spdlog.h>
 
 #include "cli/common.h"
+#include "io/io_util.h"
 #include "commands.h"
 #include "engine/pipeline.h"
 #include "io/options_json.h"
@@ -155,7 +156,7 @@ Status RunTrack(TrackArgs& a) {
         {"lost_fit", a.tracker.lost_fit}, {"lost_visible", a.tracker.lost_visible},
         {"estimator", io::OptionsToJson(a.tracker.estimator)}};
     nlohmann::json doc = {{"dataset", a.dataset}, {"video", a.video}, {"options", tracker_options}, {"steps", steps}};
-    MCPOSE_RETURN_IF_ERROR(WriteFileAtomically(a.out_json, doc.dump(1) + "\n"));
+    MCPOSE_RETURN_IF_ERROR(io::WriteFileAtomic(a.out_json, doc.dump(1) + "\n"));
   }
   std::sort(rows.begin(), rows.end(), [](const PoseResult& x, const PoseResult& y) {
     return std::tie(x.scene_id, x.im_id, x.obj_id) < std::tie(y.scene_id, y.im_id, y.obj_id);

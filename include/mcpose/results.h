@@ -20,7 +20,8 @@ struct PoseResult {
   double time_s = -1;  // seconds spent on the whole image; -1 is written as -1
 };
 
-// Writes to `path` + ".tmp" then renames it, so a failed run leaves no partial file.
+// Writes to `path` + ".tmp", flushed to disk, then renames it: a failed or killed run leaves no
+// partial file.
 Status WriteResultsCsv(const std::string& path, const std::vector<PoseResult>& results);
 StatusOr<std::vector<PoseResult>> ReadResultsCsv(const std::string& path);
 

@@ -32,18 +32,61 @@ uint64_t GroupStreamId(int scene_id, int image_id, int obj_id) {
                      static_cast<uint64_t>(obj_id));
 }
 
-StatusOr<RunReport> RunEstimation(const Dataset& dataset, const std::vector<Detection>& detections,
-                                  const std::string& detections_source,
-                                  const EstimatorOptions& options, const ProgressFn& progress) {
-  using Clock = std::chrono::steady_clock;
-  MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<Estimator> estimator, Estimator::Create(options));
+bool ImageWantsColour(const EstimatorOptions& options, const std::map<int, std::vector<Detection>>& boxes,
+                      const std::map<int, const Mesh*>& meshes) {
+  if (!options.appearance.enabled) return false;
+  for (const auto& [obj_id, dets] : boxes)
+    if (!meshes.at(obj_id)->appearance.empty()) return true;
+  return false;
+}
 
-  // ---- Group detections by image and class, checking each against the dataset ------------
+StatusOr<ImageEstimate> EstimateImage(Estimator& estimator, const FrameKey& key, const Intrinsics& K,
+                                      const DepthImage& depth, const ColourImage* colour,
+                                      const std::map<int, std::vector<Detection>>& boxes,
+                                      const std::map<int, const Mesh*>& meshes,
+                                      const std::function<std::string(int)>& name_of,
+                                      const std::function<void(const ObjectRecord&)>& on_object) {
+  using Clock = std::chrono::steady_clock;
+  const auto image_start = Clock::now();
+  if (!ImageWantsColour(estimator.options(), boxes, meshes)) colour = nullptr;
+  ImageEstimate out;
+  for (const auto& [obj_id, dets] : boxes) {
+    const auto start = Clock::now();
+    MCPOSE_ASSIGN_OR_RETURN(ObjectEstimate est,
+                            estimator.Estimate(K, depth, colour, *meshes.at(obj_id), dets,
+                                               GroupStreamId(key.scene_id, key.image_id, obj_id)));
+    ObjectRecord rec;
+    rec.key = key;
+    rec.obj_id = obj_id;
+    if (name_of) rec.name = name_of(obj_id);
+    rec.num_boxes = static_cast<int>(dets.size());
+    rec.chosen_box = dets[est.best_box];
+    rec.estimate = std::move(est);
+    rec.time_s = std::chrono::duration<double>(Clock::now() - start).count();
+
+    PoseResult row;
+    row.scene_id = key.scene_id;
+    row.im_id = key.image_id;
+    row.obj_id = obj_id;
+    row.score = rec.estimate.best_weight;
+    row.T_cam_obj = rec.estimate.T_cam_obj;
+    out.rows.push_back(row);
+    out.objects.push_back(std::move(rec));
+    if (on_object) on_object(out.objects.back());
+  }
+  // BOP's time column: the whole image, the same on each of its rows.
+  const double image_s = std::chrono::duration<double>(Clock::now() - image_start).count();
+  for (PoseResult& row : out.rows) row.time_s = image_s;
+  return out;
+}
+
+StatusOr<ImageGroups> GroupDetections(const Dataset& dataset, const std::vector<Detection>& detections,
+                                      const std::string& detections_source) {
   const std::vector<FrameKey> frames = dataset.Frames();
   const std::set<FrameKey> frame_set(frames.begin(), frames.end());
   const std::vector<int> ids = dataset.ObjectIds();
   const std::set<int> id_set(ids.begin(), ids.end());
-  std::map<FrameKey, std::map<int, std::vector<Detection>>> groups;
+  ImageGroups groups;
   for (size_t i = 0; i < detections.size(); ++i) {
     const Detection& d = detections[i];
     const std::string where = detections_source + ": detection " + std::to_string(i) + " (scene_id " +
@@ -55,9 +98,6 @@ StatusOr<RunReport> RunEstimation(const Dataset& dataset, const std::vector<Dete
                              "); the dataset has no model for it");
     groups[key][d.obj_id].push_back(d);
   }
-
-  // ---- Load what the run needs before estimating anything ---------------------------------
-  std::map<int, Mesh> meshes;
   for (auto& [key, by_class] : groups) {
     MCPOSE_ASSIGN_OR_RETURN(Frame frame, dataset.LoadFrame(key));
     for (auto it = by_class.begin(); it != by_class.end();) {
@@ -75,63 +115,72 @@ StatusOr<RunReport> RunEstimation(const Dataset& dataset, const std::vector<Dete
         it = by_class.erase(it);
         continue;
       }
-      if (!meshes.count(obj_id)) {
-        MCPOSE_ASSIGN_OR_RETURN(Mesh mesh, dataset.LoadMesh(obj_id));
-        meshes.emplace(obj_id, std::move(mesh));
-      }
       ++it;
     }
   }
   std::erase_if(groups, [](const auto& group) { return group.second.empty(); });
+  return groups;
+}
+
+StatusOr<RunReport> RunEstimation(const Dataset& dataset, const std::vector<Detection>& detections,
+                                  const std::string& detections_source,
+                                  const EstimatorOptions& options, const ProgressFn& progress,
+                                  const ImageDoneFn& image_done, const SkipImageFn& skip) {
+  MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<Estimator> estimator, Estimator::Create(options));
+  return RunEstimation(*estimator, dataset, detections, detections_source, progress, image_done, skip);
+}
+
+StatusOr<RunReport> RunEstimation(Estimator& estimator, const Dataset& dataset,
+                                  const std::vector<Detection>& detections, const std::string& detections_source,
+                                  const ProgressFn& progress, const ImageDoneFn& image_done,
+                                  const SkipImageFn& skip) {
+  MCPOSE_ASSIGN_OR_RETURN(const ImageGroups groups, GroupDetections(dataset, detections, detections_source));
+
+  // ---- Load the meshes before estimating anything -----------------------------------------
+  std::map<int, Mesh> meshes;
+  for (const auto& [key, by_class] : groups) {
+    for (const auto& [obj_id, dets] : by_class) {
+      if (!meshes.count(obj_id)) {
+        MCPOSE_ASSIGN_OR_RETURN(Mesh mesh, dataset.LoadMesh(obj_id));
+        meshes.emplace(obj_id, std::move(mesh));
+      }
+    }
+  }
   int total = 0;
   for (const auto& [key, by_class] : groups) total += static_cast<int>(by_class.size());
   std::vector<const Mesh*> mesh_list;
   for (const auto& [obj_id, mesh] : meshes) mesh_list.push_back(&mesh);
-  estimator->PrepareMeshes(mesh_list);  // the LOD chains and colour grids, a mesh per raster core
+  estimator.PrepareMeshes(mesh_list);  // the LOD chains and colour grids, a mesh per raster core
 
   // ---- Estimate each (image, class) ------------------------------------------------------
+  const std::map<int, const Mesh*> mesh_of = [&] {
+    std::map<int, const Mesh*> m;
+    for (const auto& [obj_id, mesh] : meshes) m.emplace(obj_id, &mesh);
+    return m;
+  }();
+  const auto name_of = [&](int obj_id) { return dataset.ObjectName(obj_id); };
   RunReport report;
   int done = 0;
   for (const auto& [key, by_class] : groups) {
-    const auto image_start = Clock::now();
+    if (skip && skip(key)) {
+      done += static_cast<int>(by_class.size());
+      continue;
+    }
     MCPOSE_ASSIGN_OR_RETURN(Frame frame, dataset.LoadFrame(key));
-    // The colour image, when some class of the image has a model with colour to compare.
     std::optional<ColourImage> colour;
-    bool wants_colour = false;
-    for (const auto& [obj_id, dets] : by_class) wants_colour |= !meshes.at(obj_id).appearance.empty();
-    if (options.appearance.enabled && wants_colour) {
+    if (ImageWantsColour(estimator.options(), by_class, mesh_of)) {
       MCPOSE_ASSIGN_OR_RETURN(colour, dataset.LoadColour(frame));
     }
-    const size_t first_row = report.results.size();
-    for (const auto& [obj_id, dets] : by_class) {
-      const auto start = Clock::now();
-      MCPOSE_ASSIGN_OR_RETURN(
-          ObjectEstimate est,
-          estimator->Estimate(frame.K, frame.depth, colour ? &*colour : nullptr, meshes.at(obj_id), dets,
-                              GroupStreamId(key.scene_id, key.image_id, obj_id)));
-      ObjectRecord rec;
-      rec.key = key;
-      rec.obj_id = obj_id;
-      rec.name = dataset.ObjectName(obj_id);
-      rec.num_boxes = static_cast<int>(dets.size());
-      rec.chosen_box = dets[est.best_box];
-      rec.estimate = std::move(est);
-      rec.time_s = std::chrono::duration<double>(Clock::now() - start).count();
-
-      PoseResult row;
-      row.scene_id = key.scene_id;
-      row.im_id = key.image_id;
-      row.obj_id = obj_id;
-      row.score = rec.estimate.best_weight;
-      row.T_cam_obj = rec.estimate.T_cam_obj;
-      report.results.push_back(row);
-      report.objects.push_back(std::move(rec));
+    const auto on_object = [&](const ObjectRecord& r) {
       ++done;
-      if (progress) progress(done, total, report.objects.back());
-    }
-    // BOP's time column: the whole image, the same on each of its rows.
-    const double image_s = std::chrono::duration<double>(Clock::now() - image_start).count();
-    for (size_t r = first_row; r < report.results.size(); ++r) report.results[r].time_s = image_s;
+      if (progress) progress(done, total, r);
+    };
+    MCPOSE_ASSIGN_OR_RETURN(ImageEstimate image,
+                            EstimateImage(estimator, key, frame.K, frame.depth, colour ? &*colour : nullptr,
+                                          by_class, mesh_of, name_of, on_object));
+    if (image_done) MCPOSE_RETURN_IF_ERROR(image_done(key, image.rows));
+    report.results.insert(report.results.end(), image.rows.begin(), image.rows.end());
+    for (ObjectRecord& r : image.objects) report.objects.push_back(std::move(r));
   }
   return report;
 }

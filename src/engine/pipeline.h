@@ -2,6 +2,7 @@
 #pragma once
 
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -31,14 +32,53 @@ struct RunReport {
 
 // Called after each object with (objects done, objects in all, the record).
 using ProgressFn = std::function<void(int, int, const ObjectRecord&)>;
+// Called after each image with its rows (sorted by obj_id); an error stops the run with it.
+using ImageDoneFn = std::function<Status(const FrameKey&, const std::vector<PoseResult>&)>;
+// True for an image not to estimate (one an earlier run finished).
+using SkipImageFn = std::function<bool(const FrameKey&)>;
 
-// Checks every detection first (its image exists in the dataset, its class has a model, its
-// box lies in the image with positive size; errors name `detections_source`), loads the
-// meshes, then estimates each (image, class) group. A class whose boxes hold no valid depth is
-// left out with one warning naming the depth image and the class. Nothing is written here.
+// One image's estimates: a record and a BOP row per class, sorted by obj_id; each row's time is
+// the whole image's.
+struct ImageEstimate {
+  std::vector<ObjectRecord> objects;
+  std::vector<PoseResult> rows;
+};
+
+// Estimates each class of one image from its boxes (`boxes` by obj_id, every class with a mesh
+// in `meshes`). `colour` may be null; it is used only when the options allow colour and some
+// class's mesh has it. `name_of` names a class for its record (may be null); `on_object` is
+// called after each class (may be null).
+StatusOr<ImageEstimate> EstimateImage(Estimator& estimator, const FrameKey& key, const Intrinsics& K,
+                                      const DepthImage& depth, const ColourImage* colour,
+                                      const std::map<int, std::vector<Detection>>& boxes,
+                                      const std::map<int, const Mesh*>& meshes,
+                                      const std::function<std::string(int)>& name_of,
+                                      const std::function<void(const ObjectRecord&)>& on_object);
+
+// Whether EstimateImage would use a colour image for these classes: read it only then.
+bool ImageWantsColour(const EstimatorOptions& options, const std::map<int, std::vector<Detection>>& boxes,
+                      const std::map<int, const Mesh*>& meshes);
+
+using ImageGroups = std::map<FrameKey, std::map<int, std::vector<Detection>>>;
+
+// The detections by image and class, each checked: its image exists in the dataset, its class
+// has a model, its box lies in the image with positive size. Errors name `detections_source`
+// and the detection. A class whose boxes hold no valid depth is left out with one warning
+// naming the depth image and the class.
+StatusOr<ImageGroups> GroupDetections(const Dataset& dataset, const std::vector<Detection>& detections,
+                                      const std::string& detections_source);
+
+// Checks every detection first (GroupDetections), loads the meshes, then estimates each (image, class) group, images in (scene_id, image_id) order,
+// leaving out those `skip` names. Nothing is written here; `image_done` may write each image.
 StatusOr<RunReport> RunEstimation(const Dataset& dataset, const std::vector<Detection>& detections,
                                   const std::string& detections_source,
-                                  const EstimatorOptions& options, const ProgressFn& progress);
+                                  const EstimatorOptions& options, const ProgressFn& progress,
+                                  const ImageDoneFn& image_done = nullptr, const SkipImageFn& skip = nullptr);
+// The same with an estimator made earlier (its options are the run's).
+StatusOr<RunReport> RunEstimation(Estimator& estimator, const Dataset& dataset,
+                                  const std::vector<Detection>& detections, const std::string& detections_source,
+                                  const ProgressFn& progress, const ImageDoneFn& image_done = nullptr,
+                                  const SkipImageFn& skip = nullptr);
 
 // The stream id of one (image, class) group: results depend on (seed, this) only.
 uint64_t GroupStreamId(int scene_id, int image_id, int obj_id);

@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <system_error>
 
+#include <unistd.h>
+
 #include "core/physical_limits.h"
 
 namespace mcpose::io {
@@ -34,9 +36,12 @@ Status WriteFileAtomic(const std::string& path, const std::string& contents) {
   std::FILE* f = std::fopen(tmp.c_str(), "wb");
   if (!f) return NotFound(tmp + ": cannot create file (" + std::strerror(errno) + ")");
   const bool wrote = std::fwrite(contents.data(), 1, contents.size(), f) == contents.size();
+  // The data reach the disk before the rename makes them the file: after a power loss the name
+  // holds the old file or the whole new one.
+  const bool synced = std::fflush(f) == 0 && ::fsync(::fileno(f)) == 0;
   const bool closed = std::fclose(f) == 0;
   std::error_code ec;
-  if (!wrote || !closed) {
+  if (!wrote || !synced || !closed) {
     fs::remove(tmp, ec);
     return Internal(tmp + ": write failed (disk full?)");
   }

@@ -14,8 +14,9 @@ namespace mcpose::io {
 // The bytes of `path`. NotFound if it does not exist, DataLoss if it cannot be read.
 StatusOr<std::string> ReadFileToString(const std::string& path);
 
-// Writes `contents` to `path` + ".tmp", then renames it to `path`: readers never see a partial
-// file, and on error no file is left behind.
+// Writes `contents` to `path` + ".tmp" (same folder), flushes it to disk, then renames it to
+// `path`: readers never see a partial file, and on error no file is left behind. Every output
+// file of the library and the command-line tools goes through here.
 Status WriteFileAtomic(const std::string& path, const std::string& contents);
 
 // Strict parsers: the whole token must be a number (no leading/trailing characters).

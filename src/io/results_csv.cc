@@ -7,6 +7,7 @@
 
 #include "core/physical_limits.h"
 #include "io/io_util.h"
+#include "io/results_csv.h"
 
 namespace mcpose {
 namespace {
@@ -63,6 +64,38 @@ std::string ParseLine(std::string_view line, PoseResult* r) {
 
 }  // namespace
 
+namespace io {
+
+std::string ResultsCsvRow(const PoseResult& r) {
+  std::string text;
+  text += std::to_string(r.scene_id) + "," + std::to_string(r.im_id) + "," +
+          std::to_string(r.obj_id) + ",";
+  AppendF(&text, "%.9g", r.score);
+  text += ",";
+  for (int k = 0; k < 9; ++k) {
+    if (k) text += " ";
+    AppendF(&text, "%.9g", r.T_cam_obj.R(k / 3, k % 3));
+  }
+  text += ",";
+  for (int k = 0; k < 3; ++k) {
+    if (k) text += " ";
+    AppendF(&text, "%.6f", r.T_cam_obj.t(k) * kMmPerMetre);
+  }
+  text += ",";
+  if (r.time_s < 0) {
+    text += "-1";
+  } else {
+    AppendF(&text, "%.6f", r.time_s);
+  }
+  return text;
+}
+
+std::string ParseResultsCsvRow(std::string_view line, PoseResult* r) { return ParseLine(line, r); }
+
+std::string_view ResultsCsvHeader() { return kHeader; }
+
+}  // namespace io
+
 Status WriteResultsCsv(const std::string& path, const std::vector<PoseResult>& results) {
   try {
     std::string text = std::string(kHeader) + "\n";
@@ -73,26 +106,7 @@ Status WriteResultsCsv(const std::string& path, const std::vector<PoseResult>& r
         return InvalidArgument(path + ": result " + std::to_string(i) +
                                " has a non-finite score, pose or time");
       }
-      text += std::to_string(r.scene_id) + "," + std::to_string(r.im_id) + "," +
-              std::to_string(r.obj_id) + ",";
-      AppendF(&text, "%.9g", r.score);
-      text += ",";
-      for (int k = 0; k < 9; ++k) {
-        if (k) text += " ";
-        AppendF(&text, "%.9g", r.T_cam_obj.R(k / 3, k % 3));
-      }
-      text += ",";
-      for (int k = 0; k < 3; ++k) {
-        if (k) text += " ";
-        AppendF(&text, "%.6f", r.T_cam_obj.t(k) * kMmPerMetre);
-      }
-      text += ",";
-      if (r.time_s < 0) {
-        text += "-1";
-      } else {
-        AppendF(&text, "%.6f", r.time_s);
-      }
-      text += "\n";
+      text += io::ResultsCsvRow(r) + "\n";
     }
     return io::WriteFileAtomic(path, text);
   } catch (const std::exception& e) {

@@ -1,0 +1,160 @@
+"""mcpose: 6-DoF object pose estimation by Monte-Carlo sampling on RGB-D frames.
+
+Units and conventions are those of the C++ library: depth and translations in metres, poses
+``T_cam_obj`` as 4x4 float64 matrices mapping model to camera coordinates (``X_cam = R X + t``,
+OpenCV axes), intrinsics ``K`` as 3x3 float64 in pixels with pixel centres at integer
+coordinates. Detections are BOP dicts ``{"scene_id", "image_id", "category_id", "score",
+"bbox": (x, y, w, h), "time"}`` (pixels). Errors are the command line's one-line messages:
+``ValueError`` for bad input or options, ``FileNotFoundError`` for a missing file, ``OSError``
+for a file that cannot be decoded.
+
+    import mcpose
+    ds = mcpose.Dataset("../shared/data/ycbv")
+    dets = ds.detections_from_gt(jitter=0.1, distractors=0.3, seed=0)
+    frame = ds.load_frame(49, 1)
+    results = mcpose.Estimator(seed=0).estimate_frame(frame, dets, ds)
+    for obj_id, r in results.items():
+        print(obj_id, r.score, r.T_cam_obj[:3, 3])
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import _mcpose
+from ._mcpose import Frame, Mesh, read_detections, write_detections  # noqa: F401
+
+__all__ = ["Dataset", "Estimator", "ObjectResult", "Frame", "Mesh", "read_detections", "write_detections",
+           "PER_ITERATION_DTYPE"]
+
+#: Fields of ``ObjectResult.per_iteration``: each iteration's mean and best weight (unitless,
+#: [0, 1]), the time spent rendering and counting inliers, and the whole iteration (milliseconds).
+PER_ITERATION_DTYPE = np.dtype([("mean_weight", "f8"), ("best_weight", "f8"), ("score_ms", "f8"),
+                                ("iteration_ms", "f8")])
+
+
+class Dataset(_mcpose.Dataset):
+    """A dataset in the YCB-Video native or the BOP layout (detected), ids as BOP's.
+
+    ``Dataset(path, split="test", models="")``: ``split`` is the BOP split folder; ``models``
+    a models folder to read meshes from instead of the dataset's own.
+
+    Attributes and methods:
+      - ``frames``: list of ``(scene_id, image_id)`` with ground truth, sorted.
+      - ``object_ids``, ``object_name(obj_id)``, ``format`` ("ycbv" or "bop"), ``root``.
+      - ``load_frame(scene_id, image_id)`` -> ``Frame`` with ``depth`` (H, W) float32 metres
+        (0 = no measurement; a read-only view, no copy), ``K`` (3, 3) float64 pixels,
+        ``width``, ``height``, ``gt_obj_ids`` (N,) int32 and ``gt_T_cam_obj`` (N, 4, 4)
+        float64 metres.
+      - ``load_colour(frame)`` -> (H, W, 3) uint8 RGB (a read-only view, no copy).
+      - ``load_mesh(obj_id)`` -> ``Mesh`` with ``vertices`` (V, 3) float32 metres and
+        ``triangles`` (T, 3) uint32.
+      - ``eval_points(obj_id)`` -> (P, 3) float32 metres, the points ADD and ADD-S use.
+      - ``detections_from_gt(jitter=0.1, distractors=0.3, seed=0)`` -> detector-like BOP
+        detections from the ground truth, as ``mcpose detections-from-gt``.
+    """
+
+    def __init__(self, path, split="test", models=""):
+        super().__init__(str(path), split, str(models))
+
+    def load_depths(self, keys):
+        """Depth of several frames: (B, H, W) float32 metres for ``keys`` [(scene_id, image_id)]."""
+        return np.stack([self.load_frame(s, i).depth for s, i in keys])
+
+    def intrinsics(self, keys):
+        """Intrinsics of several frames: (B, 3, 3) float64 pixels."""
+        return np.stack([self.load_frame(s, i).K for s, i in keys])
+
+
+@dataclass
+class ObjectResult:
+    """The pose of one object class in one image.
+
+    ``T_cam_obj``: (4, 4) float64, metres. ``score``: the best weight, [0, 1] (the BOP score).
+    ``iterations``: filter iterations run. ``box``: the chosen detection (BOP dict plus its
+    ``index`` among the class's boxes). ``per_iteration``: (iterations,) array of
+    ``PER_ITERATION_DTYPE``. ``time_s``: wall time of this object, seconds.
+    """
+    obj_id: int
+    name: str
+    T_cam_obj: np.ndarray
+    score: float
+    iterations: int
+    box: dict
+    per_iteration: np.ndarray
+    time_s: float
+
+
+def _result(d):
+    per = np.ascontiguousarray(d["per_iteration"]).view(PER_ITERATION_DTYPE).reshape(-1)
+    return ObjectResult(obj_id=d["obj_id"], name=d["name"], T_cam_obj=d["T_cam_obj"], score=d["score"],
+                        iterations=d["iterations"], box=d["box"], per_iteration=per, time_s=d["time_s"])
+
+
+def _option_args(options):
+    """Keyword options as the command line's flags: samples=300 -> --samples 300."""
+    args = []
+    for key, value in options.items():
+        name = key.replace("_", "-")
+        if isinstance(value, bool):
+            if _mcpose.is_switch(name):
+                args.append(f"--{name}" if value else f"--no-{name}")
+            else:
+                args += [f"--{name}", "on" if value else "off"]
+        elif isinstance(value, (list, tuple, np.ndarray)):
+            args.append(f"--{name}")
+            args += [repr(float(v)) if isinstance(v, float) else str(v) for v in value]
+        else:
+            args += [f"--{name}", repr(value) if isinstance(value, float) else str(value)]
+    return args
+
+
+class Estimator:
+    """The Monte-Carlo pose estimator with the options of ``mcpose estimate``.
+
+    ``Estimator(**options)``: each keyword is a flag of ``mcpose estimate`` with ``-`` written
+    ``_`` (``samples=620``, ``max_grid_pixels=0``, ``engine="scalar"``, ``weights=(a, b, c)``,
+    ``appearance=False`` or ``"off"``, ``resolve_twins=False``), with the same defaults, and
+    parsed and checked by the same code: a bad option raises ``ValueError`` with the message the
+    command line prints. The GIL is released while the engine runs.
+    """
+
+    def __init__(self, **options):
+        self._options = dict(options)
+        self._impl = _mcpose.Estimator(_option_args(options))
+
+    @property
+    def options(self):
+        """The options in effect (every field, defaults included), as ``--out-json`` writes them."""
+        import json
+        return json.loads(self._impl.options_json)
+
+    def estimate(self, depth, K, detections, meshes, rgb=None, seed=None):
+        """Poses of the object classes of one image from their boxes.
+
+        depth: (H, W) float32, metres, 0 = no measurement. K: (3, 3) float64, pixels.
+        detections: BOP dicts of one image (``scene_id`` and ``image_id``, when given, select
+        the random streams, as in ``mcpose estimate``). meshes: ``{obj_id: Mesh}``, a mesh for
+        every class of the detections. rgb: optional (H, W, 3) uint8 colour registered to the
+        depth. seed: overrides the estimator's seed.
+        Returns ``{obj_id: ObjectResult}``.
+        """
+        out = self._impl.estimate(depth, K, list(detections), dict(meshes), rgb, seed)
+        return {k: _result(v) for k, v in out.items()}
+
+    def estimate_frame(self, frame, detections, dataset, seed=None):
+        """``estimate`` on a dataset's frame: its detections among ``detections``, the
+        dataset's meshes and (when a mesh has colour) the frame's colour image. Returns
+        ``{obj_id: ObjectResult}``; the poses equal ``mcpose estimate``'s for the same seed."""
+        out = self._impl.estimate_frame(frame, list(detections), dataset, seed)
+        return {k: _result(v) for k, v in out.items()}
+
+    def run(self, dataset, detections, source="detections"):
+        """Checks and estimates every image of ``detections`` as ``mcpose estimate`` does; the
+        BOP results rows as tuples ``(scene_id, im_id, obj_id, score, R (9, row-major), t (3,
+        metres), time_s)``."""
+        return self._impl.run(dataset, list(detections), source)
+
+    def fingerprint(self, detections):
+        """What decides the rows of a run (options but threads, detections): a journal's key."""
+        return self._impl.fingerprint(list(detections))

@@ -1,0 +1,155 @@
+"""The Python package against the command line on real frames: same poses for the same frame
+and seed, numpy shapes, dtypes and units, and the command line's messages for bad input."""
+
+import json
+
+import numpy as np
+import pytest
+
+import mcpose
+import mcpose.eval
+from conftest import BOP, CLI, YCBV, cli_error, run_cli
+
+
+def test_dataset_arrays_ycbv(ycbv):
+    assert ycbv.format == "ycbv"
+    assert (49, 1) in ycbv.frames and ycbv.object_ids == list(range(1, 22))
+    f = ycbv.load_frame(49, 1)
+    assert f.key == (49, 1)
+    assert f.depth.shape == (480, 640) and f.depth.dtype == np.float32
+    valid = f.depth[f.depth > 0]
+    assert 0.3 < np.median(valid) < 2.0 and valid.max() < 3.0  # metres, not millimetres
+    assert not f.depth.flags.writeable and not f.depth.flags.owndata  # a view of the C++ buffer
+    assert f.K.shape == (3, 3) and f.K.dtype == np.float64
+    assert f.K[0, 0] == pytest.approx(1066.778) and f.K[1, 2] == pytest.approx(241.3109) and f.K[2, 2] == 1
+    assert list(f.gt_obj_ids) == [3, 6, 9, 13] and f.gt_obj_ids.dtype == np.int32
+    T = f.gt_T_cam_obj
+    assert T.shape == (4, 4, 4) and T.dtype == np.float64
+    assert np.allclose(T[:, 3], [0, 0, 0, 1]) and np.all((T[:, 2, 3] > 0.5) & (T[:, 2, 3] < 1.2))
+    assert np.allclose(T[:, :3, :3] @ T[:, :3, :3].transpose(0, 2, 1), np.eye(3), atol=1e-5)
+    rgb = ycbv.load_colour(f)
+    assert rgb.shape == (480, 640, 3) and rgb.dtype == np.uint8 and rgb.std() > 10
+    m = ycbv.load_mesh(3)
+    assert m.vertices.dtype == np.float32 and m.vertices.shape[1] == 3
+    assert m.triangles.dtype == np.uint32 and m.triangles.shape == (15728, 3)
+    assert 0.05 < np.ptp(m.vertices, axis=0).max() < 0.3  # metres
+    assert ycbv.eval_points(3).shape == (2621, 3)
+    assert ycbv.load_depths([(49, 1), (49, 2)]).shape == (2, 480, 640)
+    assert ycbv.intrinsics([(49, 1), (0, 1)]).shape == (2, 3, 3)
+
+
+def test_dataset_arrays_bop():
+    ds = mcpose.Dataset(BOP, split="test")
+    assert ds.format == "bop" and ds.frames
+    f = ds.load_frame(*ds.frames[0])
+    assert f.depth.dtype == np.float32 and f.depth.shape == (f.height, f.width)
+    assert 0.3 < np.median(f.depth[f.depth > 0]) < 2.0
+    assert f.gt_T_cam_obj.shape == (len(f.gt_obj_ids), 4, 4)
+
+
+def test_estimate_equals_cli(ycbv, tmp_path):
+    """Default options, frame 0049/000001 with distractor boxes: the same poses to the bit."""
+    dets = [d for d in ycbv.detections_from_gt(seed=1) if (d["scene_id"], d["image_id"]) == (49, 1)]
+    path = tmp_path / "dets.json"
+    mcpose.write_detections(str(path), dets)
+    run_cli("estimate", "--dataset", YCBV, "--detections", path, "--out", tmp_path / "r.csv",
+            "--out-json", tmp_path / "r.json", "--seed", 5, "--threads", 2, "-q")
+    cli = {o["obj_id"]: o for o in json.loads((tmp_path / "r.json").read_text())["objects"]}
+
+    est = mcpose.Estimator(seed=5, threads=2)
+    frame = ycbv.load_frame(49, 1)
+    got = est.estimate_frame(frame, dets, ycbv)
+    assert sorted(got) == sorted(cli) == [3, 6, 9, 13]
+    for obj_id, r in got.items():
+        o = cli[obj_id]
+        assert r.T_cam_obj.shape == (4, 4) and r.T_cam_obj.dtype == np.float64
+        assert r.T_cam_obj[:3, :3].ravel().tolist() == o["R"], obj_id  # exact, not approximate
+        assert (r.T_cam_obj[:3, 3] * 1000.0).tolist() == o["t_mm"], obj_id
+        assert r.score == o["best_weight"] and r.iterations == o["iterations"]
+        assert r.box["bbox"] == tuple(o["chosen_box"]["bbox"]) and r.box["index"] == o["chosen_box"]["index"]
+        assert r.per_iteration.shape == (r.iterations,)
+        assert r.per_iteration["mean_weight"].tolist() == [it["mean_weight"] for it in o["per_iteration"]]
+        assert r.name == ycbv.object_name(obj_id)
+
+    # The array entry point, from plain numpy arrays, gives the same poses; the seed argument
+    # overrides the estimator's.
+    meshes = {i: ycbv.load_mesh(i) for i in got}
+    again = mcpose.Estimator(seed=0, threads=1).estimate(
+        np.array(frame.depth), frame.K, dets, meshes, rgb=np.array(ycbv.load_colour(frame)), seed=5)
+    for obj_id, r in got.items():
+        assert np.array_equal(again[obj_id].T_cam_obj, r.T_cam_obj), obj_id
+
+
+def test_options_match_cli_defaults():
+    o = mcpose.Estimator().options
+    assert o["samples"] == 620 and o["max_iterations"] == 50 and o["seed"] == 0
+    assert mcpose.Estimator(appearance=False).options != o
+    assert mcpose.Estimator(samples=300, weights=(0.5, 0.2, 0.3), resolve_twins=False).options["samples"] == 300
+
+
+@pytest.mark.parametrize("options,flags", [
+    ({"samples": 0}, ["--samples", "0"]),
+    ({"engine": "gpu"}, ["--engine", "gpu"]),
+    ({"weights": (0.5, 0.5)}, ["--weights", "0.5", "0.5"]),
+    ({"tau": "high"}, ["--tau", "high"]),
+    ({"colour_weight": 1.5}, ["--colour-weight", "1.5"]),
+    ({"engine": "scalar", "cluster_culling": True}, ["--engine", "scalar", "--cluster-culling"]),
+    ({"no_such_option": 1}, ["--no-such-option", "1"]),
+])
+def test_bad_options_raise_cli_message(options, flags, tmp_path):
+    message = cli_error("estimate", "--dataset", YCBV, "--detections", tmp_path / "d.json",
+                        "--out", tmp_path / "r.csv", *flags)
+    with pytest.raises(ValueError) as e:
+        mcpose.Estimator(**options)
+    assert str(e.value) == message
+
+
+def test_bad_input_raises_cli_message(ycbv, tmp_path):
+    # A missing dataset.
+    with pytest.raises(FileNotFoundError) as e:
+        mcpose.Dataset(tmp_path / "nowhere")
+    assert str(e.value) == cli_error("estimate", "--dataset", tmp_path / "nowhere", "--detections",
+                                     tmp_path / "d.json", "--out", tmp_path / "r.csv")
+    # A detection of a class the dataset lacks, and one whose box lies outside the image.
+    good = [d for d in ycbv.detections_from_gt() if (d["scene_id"], d["image_id"]) == (49, 1)]
+    for bad in ({**good[0], "category_id": 99}, {**good[0], "bbox": (700.0, 10.0, 20.0, 20.0)}):
+        path = tmp_path / "bad.json"
+        mcpose.write_detections(str(path), good[1:] + [bad])
+        message = cli_error("estimate", "--dataset", YCBV, "--detections", path, "--out", tmp_path / "r.csv")
+        assert str(path) in message
+        with pytest.raises(ValueError) as e:
+            mcpose.Estimator().run(ycbv, good[1:] + [bad], str(path))
+        assert str(e.value) == message
+        assert not (tmp_path / "r.csv").exists() and not (tmp_path / "r.csv.tmp").exists()
+    # Arrays of the wrong shape name the argument.
+    frame = ycbv.load_frame(49, 1)
+    meshes = {d["category_id"]: ycbv.load_mesh(d["category_id"]) for d in good}
+    with pytest.raises(ValueError, match="depth: expected a float32 array of shape"):
+        mcpose.Estimator().estimate(frame.depth[0], frame.K, good, meshes)
+    with pytest.raises(ValueError, match="K: expected a 3x3 array"):
+        mcpose.Estimator().estimate(frame.depth, frame.K[:2], good, meshes)
+    with pytest.raises(ValueError, match="no mesh for category_id"):
+        mcpose.Estimator().estimate(frame.depth, frame.K, good, {})
+    with pytest.raises(ValueError, match="rgb: expected a uint8 array"):
+        mcpose.Estimator().estimate(frame.depth, frame.K, good, meshes, rgb=np.zeros((10, 10, 3), np.uint8))
+
+
+def test_eval_metrics(ycbv):
+    pts = ycbv.eval_points(13)
+    T = ycbv.load_frame(49, 1).gt_T_cam_obj
+    assert np.all(mcpose.eval.add(T, T, pts) == 0)
+    moved = T.copy()
+    moved[:, 0, 3] += 0.01
+    assert np.allclose(mcpose.eval.add(moved, T, pts), 0.01)
+    assert np.all(mcpose.eval.add_s(moved, T, pts) <= mcpose.eval.add(moved, T, pts) + 1e-12)
+    assert isinstance(mcpose.eval.add(T[0], T[0], pts), float)
+    assert mcpose.eval.auc([0.0, 0.0]) == pytest.approx(1.0)
+    assert mcpose.eval.auc([0.05, np.inf]) == pytest.approx(0.25, abs=0.01)
+    assert 13 in mcpose.eval.YCBV_SYMMETRIC_IDS
+    with pytest.raises(ValueError, match="points: expected an"):
+        mcpose.eval.add(T, T, pts[:, :2])
+
+
+def test_cli_path_exists():
+    import os
+    assert os.access(CLI, os.X_OK), CLI

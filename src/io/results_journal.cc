@@ -1,0 +1,160 @@
+#include "io/results_journal.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <tuple>
+
+#include "io/io_util.h"
+#include "io/options_json.h"
+#include "io/results_csv.h"
+
+namespace mcpose::io {
+
+namespace {
+
+constexpr std::string_view kMagic = "# mcpose results journal ";
+constexpr std::string_view kDone = "# done ";
+
+uint64_t Fnv1a(std::string_view text, uint64_t h = 1469598103934665603ull) {
+  for (const unsigned char c : text) h = (h ^ c) * 1099511628211ull;
+  return h;
+}
+
+Status WriteAll(int fd, const std::string& path, const std::string& text) {
+  size_t written = 0;
+  while (written < text.size()) {
+    const ssize_t n = ::write(fd, text.data() + written, text.size() - written);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return Internal(path + ": write failed (" + std::strerror(errno) + ")");
+    written += static_cast<size_t>(n);
+  }
+  if (::fsync(fd) != 0) return Internal(path + ": cannot flush to disk (" + std::strerror(errno) + ")");
+  return Status::Ok();
+}
+
+// The finished images of a journal's text and the length of its text up to the last end mark.
+Status ParseJournal(const std::string& path, const std::string& text, const std::string& fingerprint,
+                    std::map<FrameKey, std::vector<PoseResult>>* images, size_t* kept_bytes) {
+  *kept_bytes = 0;
+  size_t pos = 0;
+  int line_no = 0;
+  std::vector<PoseResult> pending;
+  while (pos < text.size()) {
+    const size_t end = text.find('\n', pos);
+    if (end == std::string::npos) break;  // a line cut short by the kill: dropped
+    const std::string_view line(text.data() + pos, end - pos);
+    pos = end + 1;
+    ++line_no;
+    const std::string where = path + ": line " + std::to_string(line_no) + ": ";
+    if (line_no == 1) {
+      if (line.substr(0, kMagic.size()) != kMagic) return InvalidArgument(where + "not a mcpose results journal");
+      if (line.substr(kMagic.size()) != fingerprint)
+        return InvalidArgument(path + ": was written by a run with other options or detections; "
+                               "rerun without --resume to start afresh");
+      *kept_bytes = pos;
+      continue;
+    }
+    if (line.substr(0, kDone.size()) == kDone) {
+      const std::vector<std::string_view> f = SplitWhitespace(line.substr(kDone.size()));
+      FrameKey key;
+      int rows = 0;
+      if (f.size() != 3 || !ParseInt(f[0], &key.scene_id) || !ParseInt(f[1], &key.image_id) ||
+          !ParseInt(f[2], &rows))
+        return InvalidArgument(where + "expected '# done <scene_id> <im_id> <rows>'");
+      if (rows != static_cast<int>(pending.size()) ||
+          std::any_of(pending.begin(), pending.end(), [&](const PoseResult& r) {
+            return r.scene_id != key.scene_id || r.im_id != key.image_id;
+          }))
+        return InvalidArgument(where + "the rows before this end mark are not the " + std::to_string(rows) +
+                               " rows of scene_id " + std::to_string(key.scene_id) + ", im_id " +
+                               std::to_string(key.image_id));
+      (*images)[key] = std::move(pending);
+      pending.clear();
+      *kept_bytes = pos;
+      continue;
+    }
+    PoseResult r;
+    const std::string problem = ParseResultsCsvRow(line, &r);
+    if (!problem.empty()) return InvalidArgument(where + problem);
+    pending.push_back(r);
+  }
+  return Status::Ok();
+}
+
+}  // namespace
+
+std::string RunFingerprint(const EstimatorOptions& options, const std::vector<Detection>& detections) {
+  EstimatorOptions o = options;
+  o.engine.threads = 0;
+  uint64_t h = Fnv1a(OptionsToJson(o).dump());
+  for (const Detection& d : detections) {
+    char text[256];
+    std::snprintf(text, sizeof text, "%d %d %d %.17g %.17g %.17g %.17g %.17g\n", d.scene_id, d.image_id, d.obj_id,
+                  d.score, d.x, d.y, d.w, d.h);
+    h = Fnv1a(text, h);
+  }
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
+  return hex;
+}
+
+std::string JournalPath(const std::string& out) { return out + ".partial"; }
+
+StatusOr<std::unique_ptr<ResultsJournal>> ResultsJournal::Open(const std::string& out,
+                                                               const std::string& fingerprint, bool resume) {
+  const std::string path = JournalPath(out);
+  std::map<FrameKey, std::vector<PoseResult>> images;
+  size_t kept_bytes = 0;
+  std::error_code ec;
+  if (resume && std::filesystem::exists(path, ec)) {
+    MCPOSE_ASSIGN_OR_RETURN(std::string text, ReadFileToString(path));
+    MCPOSE_RETURN_IF_ERROR(ParseJournal(path, text, fingerprint, &images, &kept_bytes));
+  }
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0644);
+  if (fd < 0) return NotFound(path + ": cannot create file (" + std::strerror(errno) + ")");
+  std::unique_ptr<ResultsJournal> journal(new ResultsJournal(out, fd));
+  // Whatever follows the last finished image (or the whole file, on a fresh start) goes.
+  if (::ftruncate(fd, static_cast<off_t>(kept_bytes)) != 0 ||
+      ::lseek(fd, static_cast<off_t>(kept_bytes), SEEK_SET) < 0)
+    return Internal(path + ": cannot truncate (" + std::strerror(errno) + ")");
+  if (kept_bytes == 0) MCPOSE_RETURN_IF_ERROR(WriteAll(fd, path, std::string(kMagic) + fingerprint + "\n"));
+  journal->kept_images_ = static_cast<int>(images.size());
+  journal->images_ = std::move(images);
+  return journal;
+}
+
+ResultsJournal::~ResultsJournal() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+Status ResultsJournal::Append(const FrameKey& key, const std::vector<PoseResult>& rows) {
+  std::string text;
+  for (const PoseResult& r : rows) text += ResultsCsvRow(r) + "\n";
+  text += std::string(kDone) + std::to_string(key.scene_id) + " " + std::to_string(key.image_id) + " " +
+          std::to_string(rows.size()) + "\n";
+  MCPOSE_RETURN_IF_ERROR(WriteAll(fd_, JournalPath(out_), text));
+  images_[key] = rows;
+  return Status::Ok();
+}
+
+Status ResultsJournal::Finish() {
+  std::vector<PoseResult> all;
+  for (const auto& [key, rows] : images_) all.insert(all.end(), rows.begin(), rows.end());
+  std::stable_sort(all.begin(), all.end(), [](const PoseResult& a, const PoseResult& b) {
+    return std::tie(a.scene_id, a.im_id, a.obj_id) < std::tie(b.scene_id, b.im_id, b.obj_id);
+  });
+  MCPOSE_RETURN_IF_ERROR(WriteResultsCsv(out_, all));
+  ::close(fd_);
+  fd_ = -1;
+  std::error_code ec;
+  std::filesystem::remove(JournalPath(out_), ec);
+  return Status::Ok();
+}
+
+}  // namespace mcpose::io

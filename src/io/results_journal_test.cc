@@ -1,0 +1,92 @@
+#include "io/results_journal.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "io/io_util.h"
+#include "io/results_csv.h"
+#include "test_data.h"
+
+namespace mcpose::io {
+namespace {
+
+std::vector<PoseResult> Rows(int scene, int image, std::initializer_list<int> objs) {
+  std::vector<PoseResult> rows;
+  for (int obj : objs) {
+    const Eigen::Matrix3d R = Eigen::AngleAxisd(0.1 * obj, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+    rows.push_back({scene, image, obj, 0.123456789 * obj, SE3(R, Eigen::Vector3d(0.01 * obj, -0.02, 0.8)), 0.5});
+  }
+  return rows;
+}
+
+TEST(ResultsJournalTest, ResumeKeepsFinishedImagesAndDropsACutOne) {
+  const auto dir = testing::TempDir("journal_resume");
+  const std::string out = (dir / "r.csv").string();
+  {
+    auto j = ResultsJournal::Open(out, "abc", /*resume=*/false);
+    ASSERT_TRUE(j.ok()) << j.status().ToString();
+    ASSERT_TRUE((*j)->Append({49, 2}, Rows(49, 2, {3, 6})).ok());
+    ASSERT_TRUE((*j)->Append({49, 1}, Rows(49, 1, {9})).ok());
+  }
+  // A kill in the middle of the next image: a row and half of another, no end mark.
+  std::ofstream(JournalPath(out), std::ios::app) << ResultsCsvRow(Rows(49, 3, {3})[0]) << "\n49,3,6,0.5,1 0";
+  auto j = ResultsJournal::Open(out, "abc", /*resume=*/true);
+  ASSERT_TRUE(j.ok()) << j.status().ToString();
+  EXPECT_EQ((*j)->kept_images(), 2);
+  EXPECT_TRUE((*j)->Has({49, 1}) && (*j)->Has({49, 2}) && !(*j)->Has({49, 3}));
+  ASSERT_TRUE((*j)->Append({49, 3}, Rows(49, 3, {3, 6})).ok());
+  ASSERT_TRUE((*j)->Finish().ok());
+  EXPECT_FALSE(std::filesystem::exists(JournalPath(out)));
+
+  // The CSV: every row once, sorted, equal to a direct write of the same rows.
+  std::vector<PoseResult> all = Rows(49, 1, {9});
+  for (const auto& r : Rows(49, 2, {3, 6})) all.push_back(r);
+  for (const auto& r : Rows(49, 3, {3, 6})) all.push_back(r);
+  const std::string direct = (dir / "direct.csv").string();
+  ASSERT_TRUE(WriteResultsCsv(direct, all).ok());
+  const StatusOr<std::string> got = ReadFileToString(out), want = ReadFileToString(direct);
+  ASSERT_TRUE(got.ok() && want.ok());
+  EXPECT_EQ(*got, *want);
+}
+
+TEST(ResultsJournalTest, RefusesAnotherRunsJournalAndBadLines) {
+  const std::string out = (testing::TempDir("journal_refuse") / "r.csv").string();
+  {
+    auto j = ResultsJournal::Open(out, "abc", false);
+    ASSERT_TRUE(j.ok());
+    ASSERT_TRUE((*j)->Append({1, 1}, Rows(1, 1, {2})).ok());
+  }
+  auto other = ResultsJournal::Open(out, "def", true);
+  ASSERT_FALSE(other.ok());
+  EXPECT_EQ(other.status().message(), JournalPath(out) +
+            ": was written by a run with other options or detections; rerun without --resume to start afresh");
+  // A fresh start replaces it.
+  auto fresh = ResultsJournal::Open(out, "def", false);
+  ASSERT_TRUE(fresh.ok());
+  EXPECT_EQ((*fresh)->kept_images(), 0);
+  fresh->reset();
+
+  std::ofstream(JournalPath(out)) << "# mcpose results journal abc\n1,1,2,0.5,1 0 0 0 1 0 0 0 1,1 2 3,0.1\n"
+                                     "# done 1 1 2\n";
+  auto bad = ResultsJournal::Open(out, "abc", true);
+  ASSERT_FALSE(bad.ok());
+  EXPECT_EQ(bad.status().message(), JournalPath(out) +
+            ": line 3: the rows before this end mark are not the 2 rows of scene_id 1, im_id 1");
+}
+
+TEST(ResultsJournalTest, FingerprintIgnoresThreadsOnly) {
+  EstimatorOptions a, b;
+  b.engine.threads = 7;
+  std::vector<Detection> dets(1);
+  EXPECT_EQ(RunFingerprint(a, dets), RunFingerprint(b, dets));
+  b.seed = 1;
+  EXPECT_NE(RunFingerprint(a, dets), RunFingerprint(b, dets));
+  std::vector<Detection> moved = dets;
+  moved[0].x += 1e-9;
+  EXPECT_NE(RunFingerprint(a, dets), RunFingerprint(a, moved));
+}
+
+}  // namespace
+}  // namespace mcpose::io
