@@ -10,6 +10,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,7 @@
 #include "mcpose/estimator.h"
 #include "mcpose/eval.h"
 #include "mcpose/results.h"
+#include "mcpose/tracker.h"
 
 namespace py = pybind11;
 
@@ -295,6 +297,43 @@ py::dict EstimateOne(PyEstimator& self, const Intrinsics& K, const DepthImage& d
   return out;
 }
 
+// ---- The tracker ---------------------------------------------------------------------------
+struct PyTracker {
+  std::unique_ptr<Tracker> tracker;
+};
+
+py::dict StepDict(const TrackStep& s) {
+  py::dict o;
+  o["obj_id"] = s.obj_id;
+  o["T_cam_obj"] = PoseMatrix(s.T_cam_obj);
+  o["weight"] = s.weight;
+  o["fit"] = s.fit;
+  o["visible"] = s.visible;
+  o["initialised"] = s.initialised;
+  o["lost"] = s.lost;
+  o["iterations"] = s.iterations;
+  o["box"] = s.box.w > 0 ? py::object(DetectionDict(s.box)) : py::object(py::none());
+  o["time_s"] = s.ms / 1000.0;
+  return o;
+}
+
+// Depth and intrinsics from numpy arrays, checked as the estimator's array entry point checks them.
+std::pair<Intrinsics, DepthImage> DepthFromPython(const py::array_t<float, py::array::c_style | py::array::forcecast>& depth,
+                                                  const py::array_t<double, py::array::c_style | py::array::forcecast>& K) {
+  if (depth.ndim() != 2) throw py::value_error("depth: expected a float32 array of shape (H, W), metres");
+  if (K.ndim() != 2 || K.shape(0) != 3 || K.shape(1) != 3)
+    throw py::value_error("K: expected a 3x3 array [[fx, 0, cx], [0, fy, cy], [0, 0, 1]], pixels");
+  Intrinsics intr;
+  intr.fx = K.at(0, 0), intr.fy = K.at(1, 1), intr.cx = K.at(0, 2), intr.cy = K.at(1, 2);
+  intr.height = static_cast<int>(depth.shape(0)), intr.width = static_cast<int>(depth.shape(1));
+  std::string error;
+  if (!intr.IsValid(&error)) throw py::value_error("K: " + error);
+  DepthImage d;
+  d.width = intr.width, d.height = intr.height;
+  d.depth_m.assign(depth.data(), depth.data() + depth.size());
+  return {intr, std::move(d)};
+}
+
 }  // namespace
 }  // namespace mcpose::python
 
@@ -424,17 +463,7 @@ PYBIND11_MODULE(_mcpose, m) {
               const py::array_t<double, py::array::c_style | py::array::forcecast>& K, const py::iterable& detections,
               const py::dict& meshes, const std::optional<py::array_t<uint8_t, py::array::c_style | py::array::forcecast>>& rgb,
               std::optional<uint64_t> seed) {
-             if (depth.ndim() != 2) throw py::value_error("depth: expected a float32 array of shape (H, W), metres");
-             if (K.ndim() != 2 || K.shape(0) != 3 || K.shape(1) != 3)
-               throw py::value_error("K: expected a 3x3 array [[fx, 0, cx], [0, fy, cy], [0, 0, 1]], pixels");
-             Intrinsics intr;
-             intr.fx = K.at(0, 0), intr.fy = K.at(1, 1), intr.cx = K.at(0, 2), intr.cy = K.at(1, 2);
-             intr.height = static_cast<int>(depth.shape(0)), intr.width = static_cast<int>(depth.shape(1));
-             std::string error;
-             if (!intr.IsValid(&error)) throw py::value_error("K: " + error);
-             DepthImage d;
-             d.width = intr.width, d.height = intr.height;
-             d.depth_m.assign(depth.data(), depth.data() + depth.size());
+             auto [intr, d] = DepthFromPython(depth, K);
              std::optional<ColourImage> colour;
              if (rgb) colour = ColourFromPython(*rgb, intr.width, intr.height);
              std::map<int, const Mesh*> mesh_of;
@@ -480,6 +509,66 @@ PYBIND11_MODULE(_mcpose, m) {
            "Checks and estimates like `mcpose estimate`; the results rows as tuples")
       .def("fingerprint", [](const PyEstimator& self, const py::iterable& detections) {
         return io::RunFingerprint(self.options, DetectionsFromPython(detections));
+      });
+
+  py::class_<PyTracker>(m, "Tracker")
+      .def(py::init([](const std::vector<std::string>& args) {
+        return PyTracker{Value(Tracker::Create(Value(cli::ParseTrackerOptions(args))))};
+      }))
+      .def_property_readonly("options_json", [](const PyTracker& s) {
+        return io::TrackerOptionsToJson(s.tracker->options()).dump();
+      })
+      .def_property_readonly("tracked_ids", [](const PyTracker& s) { return s.tracker->TrackedIds(); })
+      .def("reset", [](PyTracker& s, int obj_id) { s.tracker->Reset(obj_id); })
+      .def("track",
+           [](PyTracker& self, const py::array_t<float, py::array::c_style | py::array::forcecast>& depth,
+              const py::array_t<double, py::array::c_style | py::array::forcecast>& K, const PyMesh& mesh, int obj_id,
+              const py::iterable& boxes, const std::optional<py::array_t<uint8_t, py::array::c_style | py::array::forcecast>>& rgb,
+              uint64_t stream_id) {
+             auto [intr, d] = DepthFromPython(depth, K);
+             std::optional<ColourImage> colour;
+             if (rgb) colour = ColourFromPython(*rgb, intr.width, intr.height);
+             std::vector<Detection> dets = DetectionsFromPython(boxes);
+             for (size_t i = 0; i < dets.size(); ++i) {
+               if (dets[i].obj_id != obj_id)
+                 throw py::value_error("box " + std::to_string(i) + ": category_id " + std::to_string(dets[i].obj_id) +
+                                       " is not the tracked class " + std::to_string(obj_id));
+               if (Status st = engine::CheckBox(dets[i], intr); !st.ok())
+                 throw py::value_error("box " + std::to_string(i) + ": " + st.message());
+             }
+             StatusOr<TrackStep> step = Status::Ok();
+             {
+               py::gil_scoped_release release;
+               step = self.tracker->Track(intr, d, colour ? &*colour : nullptr, mesh.mesh, obj_id, dets, stream_id);
+             }
+             return StepDict(Value(std::move(step)));
+           },
+           py::arg("depth"), py::arg("K"), py::arg("mesh"), py::arg("obj_id"), py::arg("boxes"),
+           py::arg("rgb") = py::none(), py::arg("stream_id") = 0)
+      .def("track_frame", [](PyTracker& self, const PyFrame& frame, const py::iterable& detections, const PyDataset& ds) {
+        const Frame& f = frame.frame;
+        std::map<int, std::vector<Detection>> boxes;
+        for (const Detection& d : DetectionsFromPython(detections))
+          if (d.scene_id == f.key.scene_id && d.image_id == f.key.image_id) {
+            if (Status st = engine::CheckBox(d, f.K); !st.ok())
+              throw py::value_error("detection of category_id " + std::to_string(d.obj_id) + ": " + st.message());
+            boxes[d.obj_id].push_back(d);
+          }
+        std::set<int> classes;
+        for (int id : self.tracker->TrackedIds()) classes.insert(id);
+        for (const auto& [id, dets] : boxes) classes.insert(id);
+        std::map<int, Mesh> meshes;
+        std::map<int, const Mesh*> mesh_of;
+        for (int id : classes) meshes.emplace(id, Value(ds.ds->LoadMesh(id)));
+        for (const auto& [id, mesh] : meshes) mesh_of[id] = &mesh;
+        StatusOr<std::vector<TrackStep>> steps = Status::Ok();
+        {
+          py::gil_scoped_release release;
+          steps = TrackFrame(*self.tracker, f, mesh_of, boxes, [&] { return ds.ds->LoadColour(f); });
+        }
+        py::dict out;
+        for (const TrackStep& s : Value(std::move(steps))) out[py::int_(s.obj_id)] = StepDict(s);
+        return out;
       });
 
   py::class_<io::ResultsJournal>(m, "ResultsJournal")

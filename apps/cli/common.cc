@@ -183,6 +183,45 @@ StatusOr<EstimatorOptions> ParseEstimatorOptions(const std::vector<std::string>&
   return flags.options;
 }
 
+void AddTrackerFlags(CLI::App* cmd, TrackerOptions* t) {
+  cmd->add_option("--track-samples", t->samples, "Samples of a tracked frame")->capture_default_str();
+  cmd->add_option("--track-iterations", t->iterations, "Filter iterations of a tracked frame")->capture_default_str();
+  cmd->add_option("--stop-weight", t->stop_weight, "A tracked frame stops when its mean weight exceeds this")->capture_default_str();
+  cmd->add_option("--motion-sigma-t", t->motion_sigma_t_m, "Motion model: translation noise per frame, metres")->capture_default_str();
+  cmd->add_option("--motion-sigma-r", t->motion_sigma_r_rad, "Motion model: rotation noise per frame, radians")->capture_default_str();
+  cmd->add_option("--box-margin", t->box_margin, "A tracked frame's box: the last silhouette grown by this fraction a side")
+      ->capture_default_str();
+  cmd->add_option("--track-refine-iterations", t->refine_iterations,
+                  "Refinement steps in a tracked frame (0: none)")->capture_default_str();
+  cmd->add_option("--lost-fit", t->lost_fit,
+                  "The track is lost where the share of the answer's visible silhouette that the depth confirms is "
+                  "below this")
+      ->capture_default_str();
+  cmd->add_option("--lost-visible", t->lost_visible,
+                  "The track is lost where the share of the answer's silhouette not hidden behind nearer surfaces is "
+                  "below this")
+      ->capture_default_str();
+}
+
+StatusOr<TrackerOptions> ParseTrackerOptions(const std::vector<std::string>& args) {
+  CLI::App app{"mcpose tracker options"};
+  EstimatorFlags flags;
+  TrackerOptions options;
+  AddTrackerFlags(&app, &options);
+  AddEstimatorFlags(&app, kAllEstimatorFlags, &flags);
+  std::vector<std::string> reversed(args.rbegin(), args.rend());  // CLI11 takes them last first
+  try {
+    app.parse(reversed);
+  } catch (const CLI::ParseError& e) {
+    return InvalidArgument(e.what());
+  }
+  MCPOSE_RETURN_IF_ERROR(flags.Finish());
+  options.estimator = flags.options;
+  std::string error;
+  if (!options.IsValid(&error)) return InvalidArgument("invalid tracker options: " + error);
+  return options;
+}
+
 bool IsEstimatorSwitch(const std::string& name) {
   CLI::App app;
   EstimatorFlags flags;

@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 
 #include "mcpose/options.h"
+#include "mcpose/tracker.h"
 #include "mcpose/status.h"
 
 namespace mcpose::cli {
@@ -52,6 +53,12 @@ void AddEstimatorFlags(CLI::App* cmd, unsigned groups, EstimatorFlags* flags);
 // as `mcpose estimate` parses its flags: the same defaults, checks and one-line messages. For
 // front ends other than the command line (the Python package).
 StatusOr<EstimatorOptions> ParseEstimatorOptions(const std::vector<std::string>& args);
+// The tracker's own flags (--track-samples ... --lost-visible), with their defaults in the help;
+// `mcpose track` adds the estimator's beside them.
+void AddTrackerFlags(CLI::App* cmd, TrackerOptions* options);
+// The tracker's options from `args`: its own flags and the estimator's, parsed and checked as
+// `mcpose track` parses them. For the Python package.
+StatusOr<TrackerOptions> ParseTrackerOptions(const std::vector<std::string>& args);
 // Whether estimator flag `name` ("resolve-twins") is a switch (--name / --no-name) rather than
 // an option taking a value; false for an unknown name.
 bool IsEstimatorSwitch(const std::string& name);

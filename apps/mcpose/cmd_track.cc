@@ -103,45 +103,36 @@ Status RunTrack(TrackArgs& a) {
   using Clock = std::chrono::steady_clock;
   std::vector<PoseResult> rows;
   nlohmann::json steps = nlohmann::json::array();
-  std::set<int> tracked;
+  std::map<int, const Mesh*> mesh_of;
+  for (const auto& [obj_id, mesh] : meshes) mesh_of.emplace(obj_id, &mesh);
   for (const FrameKey& k : frames) {
     const auto frame_start = Clock::now();
     MCPOSE_ASSIGN_OR_RETURN(Frame frame, dataset->LoadFrame(k));
-    std::set<int> classes = tracked;
-    for (const auto& [obj_id, dets] : boxes[k]) classes.insert(obj_id);
-    std::optional<ColourImage> colour;
-    bool wants_colour = false;
-    for (int obj_id : classes) wants_colour |= !meshes.at(obj_id).appearance.empty();
-    if (a.tracker.estimator.appearance.enabled && wants_colour) {
-      MCPOSE_ASSIGN_OR_RETURN(colour, dataset->LoadColour(frame));
-    }
+    StatusOr<std::vector<TrackStep>> frame_steps =
+        TrackFrame(*tracker, frame, mesh_of, boxes[k], [&] { return dataset->LoadColour(frame); });
+    if (!frame_steps.ok())
+      return Status(frame_steps.status().code(), dataset->FrameName(k) + ": " + frame_steps.status().message());
     const size_t first_row = rows.size();
-    for (int obj_id : classes) {
-      const std::vector<Detection>& dets = boxes[k][obj_id];
-      StatusOr<TrackStep> step = tracker->Track(frame.K, frame.depth, colour ? &*colour : nullptr, meshes.at(obj_id),
-                                                obj_id, dets, GroupStreamId(k.scene_id, k.image_id, obj_id));
-      if (!step.ok())
-        return Status(step.status().code(), dataset->FrameName(k) + ": obj_id " + std::to_string(obj_id) + ": " +
-                                                step.status().message());
-      if (step->lost && dets.empty()) tracked.erase(obj_id); else tracked.insert(obj_id);
+    for (const TrackStep& step : *frame_steps) {
+      const int obj_id = step.obj_id;
       PoseResult row;
       row.scene_id = k.scene_id, row.im_id = k.image_id, row.obj_id = obj_id;
-      row.score = step->weight;
-      row.T_cam_obj = step->T_cam_obj;
+      row.score = step.weight;
+      row.T_cam_obj = step.T_cam_obj;
       rows.push_back(row);
       nlohmann::json R = nlohmann::json::array(), t = nlohmann::json::array();
-      for (int i = 0; i < 9; ++i) R.push_back(step->T_cam_obj.R(i / 3, i % 3));
-      for (int i = 0; i < 3; ++i) t.push_back(1000 * step->T_cam_obj.t(i));
+      for (int i = 0; i < 9; ++i) R.push_back(step.T_cam_obj.R(i / 3, i % 3));
+      for (int i = 0; i < 3; ++i) t.push_back(1000 * step.T_cam_obj.t(i));
       steps.push_back({{"scene_id", k.scene_id}, {"im_id", k.image_id}, {"obj_id", obj_id},
-                       {"name", dataset->ObjectName(obj_id)}, {"initialised", step->initialised},
-                       {"lost", step->lost}, {"weight", step->weight}, {"fit", step->fit}, {"visible", step->visible}, {"iterations", step->iterations},
-                       {"box", {step->box.x, step->box.y, step->box.w, step->box.h}}, {"ms", step->ms},
+                       {"name", dataset->ObjectName(obj_id)}, {"initialised", step.initialised},
+                       {"lost", step.lost}, {"weight", step.weight}, {"fit", step.fit}, {"visible", step.visible}, {"iterations", step.iterations},
+                       {"box", {step.box.x, step.box.y, step.box.w, step.box.h}}, {"ms", step.ms},
                        {"R", R}, {"t_mm", t}});
       if (!a.quiet)
         spdlog::info("{} obj {:2d} {:<24} {} w {:.3f} fit {:.3f} vis {:.2f} it {:2d} {:.1f} ms", dataset->FrameName(k), obj_id,
                      dataset->ObjectName(obj_id),
-                     step->lost ? (step->initialised ? "lost, restarted" : "lost") : step->initialised ? "started" : "tracked",
-                     step->weight, step->fit, step->visible, step->iterations, step->ms);
+                     step.lost ? (step.initialised ? "lost, restarted" : "lost") : step.initialised ? "started" : "tracked",
+                     step.weight, step.fit, step.visible, step.iterations, step.ms);
     }
     const double frame_s = std::chrono::duration<double>(Clock::now() - frame_start).count();
     for (size_t r = first_row; r < rows.size(); ++r) rows[r].time_s = frame_s;
@@ -149,13 +140,7 @@ Status RunTrack(TrackArgs& a) {
 
   // ---- Outputs, written only after everything succeeded -------------------------------------
   if (!a.out_json.empty()) {
-    nlohmann::json tracker_options = {
-        {"samples", a.tracker.samples}, {"iterations", a.tracker.iterations}, {"stop_weight", a.tracker.stop_weight},
-        {"motion_sigma_t_m", a.tracker.motion_sigma_t_m}, {"motion_sigma_r_rad", a.tracker.motion_sigma_r_rad},
-        {"box_margin", a.tracker.box_margin}, {"refine_iterations", a.tracker.refine_iterations},
-        {"lost_fit", a.tracker.lost_fit}, {"lost_visible", a.tracker.lost_visible},
-        {"estimator", io::OptionsToJson(a.tracker.estimator)}};
-    nlohmann::json doc = {{"dataset", a.dataset}, {"video", a.video}, {"options", tracker_options}, {"steps", steps}};
+    nlohmann::json doc = {{"dataset", a.dataset}, {"video", a.video}, {"options", io::TrackerOptionsToJson(a.tracker)}, {"steps", steps}};
     MCPOSE_RETURN_IF_ERROR(io::WriteFileAtomic(a.out_json, doc.dump(1) + "\n"));
   }
   std::sort(rows.begin(), rows.end(), [](const PoseResult& x, const PoseResult& y) {
@@ -185,23 +170,7 @@ void AddTrackCommand(CLI::App& app, Status* status) {
                   "visible masks");
   cmd->add_option("--out", args->out, "Results CSV, one row per (frame, object)")->required();
   cmd->add_option("--out-json", args->out_json, "Per (frame, object): started, tracked or lost, weight, fit, iterations, box, time");
-  cmd->add_option("--track-samples", t.samples, "Samples of a tracked frame")->capture_default_str();
-  cmd->add_option("--track-iterations", t.iterations, "Filter iterations of a tracked frame")->capture_default_str();
-  cmd->add_option("--stop-weight", t.stop_weight, "A tracked frame stops when its mean weight exceeds this")->capture_default_str();
-  cmd->add_option("--motion-sigma-t", t.motion_sigma_t_m, "Motion model: translation noise per frame, metres")->capture_default_str();
-  cmd->add_option("--motion-sigma-r", t.motion_sigma_r_rad, "Motion model: rotation noise per frame, radians")->capture_default_str();
-  cmd->add_option("--box-margin", t.box_margin, "A tracked frame's box: the last silhouette grown by this fraction a side")
-      ->capture_default_str();
-  cmd->add_option("--track-refine-iterations", t.refine_iterations,
-                  "Refinement steps in a tracked frame (0: none)")->capture_default_str();
-  cmd->add_option("--lost-fit", t.lost_fit,
-                  "The track is lost where the share of the answer's visible silhouette that the depth confirms is "
-                  "below this")
-      ->capture_default_str();
-  cmd->add_option("--lost-visible", t.lost_visible,
-                  "The track is lost where the share of the answer's silhouette not hidden behind nearer surfaces is "
-                  "below this")
-      ->capture_default_str();
+  AddTrackerFlags(cmd, &t);
   AddEstimatorFlags(cmd, kAllEstimatorFlags, &args->flags);
   cmd->add_flag("-q,--quiet", args->quiet, "No progress output");
   cmd->callback([args, status] { *status = RunTrack(*args); });

@@ -7,11 +7,14 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
+#include <map>
 #include <memory>
 #include <span>
 #include <string>
 
 #include "mcpose/camera.h"
+#include "mcpose/dataset.h"
 #include "mcpose/detection.h"
 #include "mcpose/estimator.h"
 #include "mcpose/image.h"
@@ -82,6 +85,9 @@ class Tracker {
   // Forgets the track of `obj_id` (its next frame is estimated from its detections).
   void Reset(int obj_id);
 
+  // The classes with a live track (their next frame needs no box), in increasing order.
+  std::vector<int> TrackedIds() const;
+
   const TrackerOptions& options() const;
 
  private:
@@ -89,5 +95,16 @@ class Tracker {
   explicit Tracker(std::unique_ptr<Impl> impl);
   std::unique_ptr<Impl> impl_;
 };
+
+// One frame of a video, as `mcpose track` runs it: every class with a live track or with boxes in
+// `boxes` (this frame's detections by obj_id), in increasing obj_id, each with the stream id of
+// (frame, class) that the estimator uses (so a class's first frame equals `mcpose estimate`'s
+// answer for the same boxes and seed). `meshes` holds a mesh for each such class.
+// `load_colour` (may be null: depth only) is called once, only where the options use colour and
+// one of the classes' meshes has it. Errors name the frame's class.
+StatusOr<std::vector<TrackStep>> TrackFrame(Tracker& tracker, const Frame& frame,
+                                            const std::map<int, const Mesh*>& meshes,
+                                            const std::map<int, std::vector<Detection>>& boxes,
+                                            const std::function<StatusOr<ColourImage>()>& load_colour);
 
 }  // namespace mcpose

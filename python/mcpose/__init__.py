@@ -15,6 +15,10 @@ for a file that cannot be decoded.
     results = mcpose.Estimator(seed=0).estimate_frame(frame, dets, ds)
     for obj_id, r in results.items():
         print(obj_id, r.score, r.T_cam_obj[:3, 3])
+
+    tracker = mcpose.Tracker(seed=0)          # a video, each frame from the last one's samples
+    for image_id in range(1, 11):
+        steps = tracker.track_frame(ds.load_frame(49, image_id), dets, ds)
 """
 
 from dataclasses import dataclass
@@ -24,8 +28,8 @@ import numpy as np
 from . import _mcpose
 from ._mcpose import Frame, Mesh, read_detections, write_detections  # noqa: F401
 
-__all__ = ["Dataset", "Estimator", "ObjectResult", "Frame", "Mesh", "read_detections", "write_detections",
-           "PER_ITERATION_DTYPE"]
+__all__ = ["Dataset", "Estimator", "ObjectResult", "Tracker", "TrackStep", "Frame", "Mesh", "read_detections",
+           "write_detections", "PER_ITERATION_DTYPE"]
 
 #: Fields of ``ObjectResult.per_iteration``: each iteration's mean and best weight (unitless,
 #: [0, 1]), the time spent rendering and counting inliers, and the whole iteration (milliseconds).
@@ -158,3 +162,78 @@ class Estimator:
     def fingerprint(self, detections):
         """What decides the rows of a run (options but threads, detections): a journal's key."""
         return self._impl.fingerprint(list(detections))
+
+
+@dataclass
+class TrackStep:
+    """One object in one frame of a track.
+
+    ``T_cam_obj``: (4, 4) float64, metres. ``weight``: the frame's best weight, [0, 1].
+    ``fit``: the share of the answer's visible silhouette that the depth confirms; ``visible``:
+    the share of its silhouette not hidden behind nearer surfaces (the track is lost below
+    ``lost_fit`` / ``lost_visible``). ``initialised``: estimated from this frame's boxes (first
+    frame or restart). ``lost``: the track was lost in this frame (then restarted if the frame
+    had boxes). ``iterations``: filter iterations run. ``box``: the box the answer was found in
+    (BOP dict; ``None`` where a lost track had none). ``time_s``: wall time, seconds.
+    """
+    obj_id: int
+    T_cam_obj: np.ndarray
+    weight: float
+    fit: float
+    visible: float
+    initialised: bool
+    lost: bool
+    iterations: int
+    box: dict
+    time_s: float
+
+
+class Tracker:
+    """The tracker of ``mcpose track``: each frame starts from the last one's samples.
+
+    ``Tracker(**options)``: each keyword is a flag of ``mcpose track`` with ``-`` written ``_``:
+    the tracker's own (``track_samples=300``, ``track_iterations=3``, ``stop_weight``,
+    ``motion_sigma_t`` (metres), ``motion_sigma_r`` (radians), ``box_margin``,
+    ``track_refine_iterations``, ``lost_fit``, ``lost_visible``) and the estimator's, which
+    first frames and restarts use (``seed``, ``samples``, ``threads``, ...), with the same
+    defaults and checks: a bad option raises ``ValueError`` with the command line's message.
+    Same seed, same poses, at any thread count; ``track_frame`` gives ``mcpose track``'s poses.
+    """
+
+    def __init__(self, **options):
+        self._impl = _mcpose.Tracker(_option_args(options))
+
+    @property
+    def options(self):
+        """The options in effect (defaults included), as ``mcpose track --out-json`` writes them."""
+        import json
+        return json.loads(self._impl.options_json)
+
+    @property
+    def tracked_ids(self):
+        """The classes with a live track (their next frame needs no box), increasing."""
+        return self._impl.tracked_ids
+
+    def reset(self, obj_id):
+        """Forgets the track of ``obj_id``: its next frame is estimated from its boxes."""
+        self._impl.reset(obj_id)
+
+    def track(self, depth, K, mesh, obj_id, boxes=(), rgb=None, stream_id=0):
+        """The pose of class ``obj_id`` in the next frame of its track.
+
+        depth: (H, W) float32, metres, 0 = no measurement. K: (3, 3) float64, pixels. mesh: the
+        class's ``Mesh``. boxes: this frame's detections of the class (BOP dicts); they start
+        the track and restart a lost one, and may be empty while it holds. rgb: optional
+        (H, W, 3) uint8 colour. stream_id: selects the frame's random streams (vary it by frame).
+        Returns a ``TrackStep``.
+        """
+        return TrackStep(**self._impl.track(depth, K, mesh, obj_id, list(boxes), rgb, stream_id))
+
+    def track_frame(self, frame, detections, dataset):
+        """The next frame of a video as ``mcpose track`` runs it: every class with a live track
+        or with boxes among ``detections`` (those of other frames are ignored), with the
+        dataset's meshes and, where a mesh has colour, the frame's colour. Returns
+        ``{obj_id: TrackStep}``."""
+        out = self._impl.track_frame(frame, list(detections), dataset)
+        return {k: TrackStep(**v) for k, v in out.items()}
+

@@ -74,4 +74,17 @@ nlohmann::json CountersToJson(const EngineCounters& c) {
           {"cdf_reads", c.cdf_reads}};
 }
 
+nlohmann::json TrackerOptionsToJson(const TrackerOptions& t) {
+  return {{"samples", t.samples},
+          {"iterations", t.iterations},
+          {"stop_weight", t.stop_weight},
+          {"motion_sigma_t_m", t.motion_sigma_t_m},
+          {"motion_sigma_r_rad", t.motion_sigma_r_rad},
+          {"box_margin", t.box_margin},
+          {"refine_iterations", t.refine_iterations},
+          {"lost_fit", t.lost_fit},
+          {"lost_visible", t.lost_visible},
+          {"estimator", OptionsToJson(t.estimator)}};
+}
+
 }  // namespace mcpose::io

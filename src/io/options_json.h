@@ -1,11 +1,12 @@
-// EstimatorOptions and EngineCounters as JSON, the one place that names their fields for
-// files (`mcpose estimate --out-json`, `mcpose bench --json`).
+// EstimatorOptions, TrackerOptions and EngineCounters as JSON, the one place that names their fields for
+// files (`mcpose estimate --out-json`, `mcpose track --out-json`, `mcpose bench --json`).
 #pragma once
 
 #include <nlohmann/json.hpp>
 
 #include "mcpose/estimator.h"
 #include "mcpose/options.h"
+#include "mcpose/tracker.h"
 
 namespace mcpose::io {
 
@@ -13,5 +14,7 @@ namespace mcpose::io {
 //  "diffusion": {...}, "engine": {...}}, field names as in options.h.
 nlohmann::json OptionsToJson(const EstimatorOptions& options);
 nlohmann::json CountersToJson(const EngineCounters& counters);
+// The tracker's fields as in tracker.h, its single-frame options under "estimator".
+nlohmann::json TrackerOptionsToJson(const TrackerOptions& options);
 
 }  // namespace mcpose::io

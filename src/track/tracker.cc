@@ -4,11 +4,14 @@
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <optional>
+#include <set>
 
 #include "engine/box_scorer.h"
 #include "engine/context.h"
 #include "engine/estimate.h"
 #include "engine/filter_loop.h"
+#include "engine/pipeline.h"
 #include "engine/refinement.h"
 #include "score/inlier.h"
 #include "track/motion.h"
@@ -144,6 +147,12 @@ const TrackerOptions& Tracker::options() const { return impl_->options; }
 
 void Tracker::Reset(int obj_id) { impl_->tracks.erase(obj_id); }
 
+std::vector<int> Tracker::TrackedIds() const {
+  std::vector<int> ids;
+  for (const auto& [obj_id, track] : impl_->tracks) ids.push_back(obj_id);
+  return ids;
+}
+
 StatusOr<std::unique_ptr<Tracker>> Tracker::Create(const TrackerOptions& options) {
   std::string error;
   if (!options.IsValid(&error)) return InvalidArgument("invalid tracker options: " + error);
@@ -212,6 +221,39 @@ StatusOr<TrackStep> Tracker::Track(const Intrinsics& K, const DepthImage& depth,
     return done(step);
   }
   return done(im.Start(K, depth, colour, mesh, obj_id, boxes, stream_id, step));
+}
+
+StatusOr<std::vector<TrackStep>> TrackFrame(Tracker& tracker, const Frame& frame,
+                                            const std::map<int, const Mesh*>& meshes,
+                                            const std::map<int, std::vector<Detection>>& boxes,
+                                            const std::function<StatusOr<ColourImage>()>& load_colour) {
+  std::set<int> classes;
+  for (int obj_id : tracker.TrackedIds()) classes.insert(obj_id);
+  for (const auto& [obj_id, dets] : boxes) classes.insert(obj_id);
+  bool wants_colour = false;
+  for (int obj_id : classes) {
+    auto it = meshes.find(obj_id);
+    if (it == meshes.end() || it->second == nullptr)
+      return InvalidArgument("obj_id " + std::to_string(obj_id) + ": no mesh given for a class of the frame");
+    wants_colour |= !it->second->appearance.empty();
+  }
+  std::optional<ColourImage> colour;
+  if (load_colour && wants_colour && tracker.options().estimator.appearance.enabled) {
+    MCPOSE_ASSIGN_OR_RETURN(colour, load_colour());
+  }
+  static const std::vector<Detection> kNoBoxes;
+  std::vector<TrackStep> steps;
+  for (int obj_id : classes) {
+    auto b = boxes.find(obj_id);
+    const std::vector<Detection>& dets = b == boxes.end() ? kNoBoxes : b->second;
+    StatusOr<TrackStep> step =
+        tracker.Track(frame.K, frame.depth, colour ? &*colour : nullptr, *meshes.at(obj_id), obj_id, dets,
+                      GroupStreamId(frame.key.scene_id, frame.key.image_id, obj_id));
+    if (!step.ok())
+      return Status(step.status().code(), "obj_id " + std::to_string(obj_id) + ": " + step.status().message());
+    steps.push_back(std::move(step).value());
+  }
+  return steps;
 }
 
 }  // namespace mcpose
