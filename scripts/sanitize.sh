@@ -7,8 +7,8 @@
 #          scorer, estimator, tracker, raster backends, real-frame raster cores, the CLI at 1, 2
 #          and 4 threads on every engine)
 #   all    asan, then tsan (default)
-#   ci     what .ci/run runs, sized for a 2-core machine: ASan + UBSan over the readers',
-#          kernels' and filter's unit tests and the malformed-input tests (build-asan-ci/), then
+#   ci     what .ci/run runs, sized for a 2-core machine: ASan + UBSan over the readers' and
+#          kernels' unit tests and the malformed-input tests (build-asan-ci/), then
 #          TSan over the threaded unit tests (build-tsan-ci/), each test binary compiled from
 #          those test files only
 # The library, CLI and tools are compiled as unity builds (CMAKE_UNITY_BUILD) to save time; the
@@ -27,12 +27,12 @@ ASAN_FLAGS="-fsanitize=address,undefined -fsanitize=float-cast-overflow -fno-san
 TSAN_FLAGS="-fsanitize=thread"
 # The suites that run threads (tsan).
 THREADED_SUITES='^(ParallelFor|BoxScorer|Estimator|MotionModel|Tracker|Backends|RasterCores|CliThreads|CliTrack)\.'
-# ci: the unit tests of the readers, raster cores, scoring, filter, refinement and backends,
-# and the malformed-input tests over the CLI (asan runs every suite: estimator, tracker,
-# evaluation, report, capture, tools, real data). The SIMD kernels are compiled for the
-# baseline and the AVX-512 target only (the one the CI machine runs), not for SSSE3, SSE4 and
-# AVX2 too.
-CI_ASAN_TESTS='/src/(io|core|render|score|filter|refine|backends)/.*_test\.cc$|/tests/hostile_input_test\.cc$'
+# ci: the unit tests of the readers, the raster cores and the scoring kernels, and the
+# malformed-input tests over the CLI (asan runs every suite: filter, estimator, tracker,
+# backends, evaluation, report, capture, tools, real data). The SIMD kernels are compiled for
+# the baseline and the AVX-512 target only (the one the CI machine runs), not for SSSE3, SSE4
+# and AVX2 too.
+CI_ASAN_TESTS='/src/(io|core|render|score)/.*_test\.cc$|/tests/hostile_input_test\.cc$'
 CI_ASAN_DEFINES='-DHWY_DISABLED_TARGETS=6656'  # HWY_SSSE3 | HWY_SSE4 | HWY_AVX2 (hwy/detect_targets.h)
 # ci: the threaded unit tests, less the two longest under TSan (a statistical search test that
 # runs one thread, 200 s, and the backends at three thread counts, 140 s; tsan runs them).
