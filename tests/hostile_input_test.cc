@@ -252,6 +252,16 @@ const HostileCase kCases[] = {
        bytes.replace(at + 8, 8, std::string("\xff\xff\xff\x7f\xff\xff\xff\x7f", 8));
        Replace(p, bytes);
        return p; }},
+    {"meta_dimensions_tag_claims_4_gb", Y, E, [](const fs::path& r) {
+       const std::string p = EditMeta(r, [](io::YcbvMeta&) {});
+       std::string bytes = ReadText(p);
+       // The dimensions tag of the first variable claims 4,227,858,432 bytes (a rank of 10^9).
+       const std::string dims("\x05\0\0\0\x08\0\0\0\x03\0\0\0\x03\0\0\0", 16);
+       const size_t at = bytes.find(dims);
+       EXPECT_NE(at, std::string::npos);
+       bytes.replace(at + 4, 4, std::string("\0\0\0\xfc", 4));
+       Replace(p, bytes);
+       return p; }},
     // ---- Meshes and points ----
     {"obj_nan_vertex", Y, E, [](const fs::path& r) { return EditObj(r, FirstVertex("v nan 0 0")); }},
     {"obj_inf_vertex", Y, E, [](const fs::path& r) { return EditObj(r, FirstVertex("v 0 inf 0")); }},

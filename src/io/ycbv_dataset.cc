@@ -1,8 +1,10 @@
 #include "io/ycbv_dataset.h"
 
 #include <matio.h>
+#include <zlib.h>
 
 #include <algorithm>
+#include <cstring>
 #include <cmath>
 #include <cstdio>
 #include <exception>
@@ -450,6 +452,83 @@ StatusOr<std::unique_ptr<Dataset>> OpenYcbv(const std::string& root, const std::
 
 }  // namespace
 
+namespace {
+
+// MAT5 data types of the element tags this check reads.
+constexpr uint32_t kMiInt32 = 5, kMiUint32 = 6, kMiMatrix = 14, kMiCompressed = 15;
+
+uint32_t Mat5Word(const unsigned char* p, bool swap) {
+  uint32_t v;
+  std::memcpy(&v, p, 4);
+  return swap ? __builtin_bswap32(v) : v;
+}
+
+// Checks the header of one miMATRIX element (`data`, `size` bytes: its array flags, dimensions
+// and name sub-elements) before libmatio reads it: libmatio allocates the dimensions and the
+// name as their tags claim, so a tag that lies would make it allocate gigabytes.
+std::string CheckMat5MatrixHeader(const unsigned char* data, size_t size, bool swap) {
+  size_t at = 0;
+  for (int sub = 0; sub < 3 && at + 8 <= size; ++sub) {
+    const uint32_t tag = Mat5Word(data + at, swap);
+    if (tag >> 16) {  // small data element: 4 bytes of data in the tag
+      at += 8;
+      continue;
+    }
+    const uint32_t bytes = Mat5Word(data + at + 4, swap);
+    // Flags: 8 bytes; dimensions: at most 32 of them; name: at most 64 characters.
+    const uint32_t most = sub == 0 ? 8 : sub == 1 ? 32 * 4 : 64;
+    if (bytes > most || (sub == 0 && tag != kMiUint32) || (sub == 1 && tag != kMiInt32))
+      return "a variable's " + std::string(sub == 0 ? "array flags" : sub == 1 ? "dimensions" : "name") +
+             " claim " + std::to_string(bytes) + " bytes (type " + std::to_string(tag) + "), more than a MAT-file variable has";
+    at += 8 + ((bytes + 7u) & ~7u);
+  }
+  return {};
+}
+
+// Walks the top-level elements of a MATLAB 5 file (`bytes`, header included): each must fit in
+// the file, and each variable's header (inflated where compressed) must claim sane sizes.
+std::string CheckMat5Elements(const std::string& bytes) {
+  const bool swap = bytes.compare(126, 2, "MI") == 0;
+  const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
+  size_t at = 128;
+  while (at + 8 <= bytes.size()) {
+    const uint32_t tag = Mat5Word(data + at, swap);
+    if (tag >> 16) {
+      at += 8;
+      continue;
+    }
+    const uint64_t size = Mat5Word(data + at + 4, swap);
+    if (size > bytes.size() - at - 8)
+      return "the element at byte " + std::to_string(at) + " claims " + std::to_string(size) + " bytes, more than the " +
+             std::to_string(bytes.size() - at - 8) + " left in the file";
+    const unsigned char* body = data + at + 8;
+    std::string problem;
+    if (tag == kMiMatrix) {
+      problem = CheckMat5MatrixHeader(body, static_cast<size_t>(size), swap);
+    } else if (tag == kMiCompressed) {
+      // The first bytes of the inflated variable: its miMATRIX tag and header sub-elements.
+      unsigned char head[8 + 16 + 8 + 32 * 4 + 8 + 64];
+      z_stream z{};
+      if (inflateInit(&z) != Z_OK) return "zlib could not start";
+      z.next_in = const_cast<unsigned char*>(body);
+      z.avail_in = static_cast<uInt>(size);
+      z.next_out = head;
+      z.avail_out = sizeof head;
+      const int rc = inflate(&z, Z_SYNC_FLUSH);
+      const size_t got = sizeof head - z.avail_out;
+      inflateEnd(&z);
+      if (rc != Z_OK && rc != Z_STREAM_END && rc != Z_BUF_ERROR)
+        return "the compressed element at byte " + std::to_string(at) + " does not inflate";
+      if (got >= 8 && Mat5Word(head, swap) == kMiMatrix) problem = CheckMat5MatrixHeader(head + 8, got - 8, swap);
+    }
+    if (!problem.empty()) return "the element at byte " + std::to_string(at) + ": " + problem;
+    at += 8 + (tag == kMiCompressed ? size : (size + 7u) & ~uint64_t{7});
+  }
+  return {};
+}
+
+}  // namespace
+
 StatusOr<YcbvMeta> ReadYcbvMeta(const std::string& path) {
   std::error_code ec;
   if (!fs::exists(path, ec)) return NotFound(path + ": file does not exist");
@@ -461,6 +540,7 @@ StatusOr<YcbvMeta> ReadYcbvMeta(const std::string& path) {
                     ((bytes.compare(124, 4, std::string("\x00\x01IM", 4)) == 0) ||
                      (bytes.compare(124, 4, std::string("\x01\x00MI", 4)) == 0));
   if (!mat5) return DataLoss(path + ": not a MATLAB 5 MAT-file (header of " + std::to_string(bytes.size()) + " bytes)");
+  if (const std::string problem = CheckMat5Elements(bytes); !problem.empty()) return DataLoss(path + ": " + problem);
   mat_t* mat = Mat_Open(path.c_str(), MAT_ACC_RDONLY);
   if (!mat) return DataLoss(path + ": not a readable MATLAB MAT-file");
   StatusOr<YcbvMeta> meta = InvalidArgument(path + ": not read");

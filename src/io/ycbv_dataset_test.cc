@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <limits>
+#include <string>
 
 #include "io/ycbv_names.h"
 #include "mcpose/dataset.h"
@@ -269,4 +271,31 @@ TEST(YcbvDatasetIoTest, BadFilesNameTheFile) {
 }
 
 }  // namespace
+// A fuzzer's input (scripts/fuzz.sh, meta_mat): a compressed variable whose inflated dimensions
+// tag claims 4.2 GB (in a stream that is corrupt further on) made libmatio allocate 8.5 GB.
+// Refused before libmatio opens it, naming the file.
+TEST(YcbvDatasetIoTest, CompressedVariableClaimingHugeDimensionsIsRefusedBeforeLibmatio) {
+  const std::string hex =
+      "4d41544c4142dbca2e30204d41542d66696c652c20506c6154666f726d3a20474c4e584136342c204372656174656420"
+      "6f6e3a2053756e205365702031302030343a34393a313720323031372020202020202020202020202020202020202020"
+      "202020202020202220202020202020202020202000000000000000000001494d0f00000033000000789ce36360607000"
+      "623620e680d220c00ae5b300312314730371724e717c665e4a6a456a31581d135005331b272f00752e05370f00000033"
+      "000000789ce36360607000623620e680d220c00aa1eb0000806000004c2ec9c875b0b6c10914f3006275438e3532ab00"
+      "008077030000ffffecc1010d100000c2a0f74f6d0e37a000000000e94ea7dd1db86fef94dccee93ac8860a8ee5b2a97c"
+      "2236469e925cfebd4f5f6dab87df03d7d0ff1b728575f59705f2b14c943e729dfceeefab64aa0c94fed1cf91325d3e95"
+      "4c9e689853a49cd742a6c9a2";
+  std::string bytes;
+  for (size_t i = 0; i + 1 < hex.size(); i += 2) bytes.push_back(static_cast<char>(std::stoi(hex.substr(i, 2), nullptr, 16)));
+  const std::string path = (std::filesystem::temp_directory_path() / "mcpose_fuzz_meta_oom.mat").string();
+  {
+    std::ofstream f(path, std::ios::binary);
+    f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  }
+  const StatusOr<io::YcbvMeta> meta = io::ReadYcbvMeta(path);
+  ASSERT_FALSE(meta.ok());
+  EXPECT_NE(meta.status().message().find(path), std::string::npos) << meta.status().message();
+  EXPECT_NE(meta.status().message().find("does not inflate"), std::string::npos) << meta.status().message();
+  std::filesystem::remove(path);
+}
+
 }  // namespace mcpose
