@@ -169,17 +169,26 @@ Status EstimatorFlags::Finish() {
   return Status::Ok();
 }
 
-StatusOr<EstimatorOptions> ParseEstimatorOptions(const std::vector<std::string>& args) {
-  CLI::App app{"mcpose estimator options"};
-  EstimatorFlags flags;
-  AddEstimatorFlags(&app, kAllEstimatorFlags, &flags);
+namespace {
+
+// Parses `args` with the flags `app` holds, then finishes the estimator's `flags`.
+Status ParseArgs(CLI::App& app, EstimatorFlags& flags, const std::vector<std::string>& args) {
   std::vector<std::string> reversed(args.rbegin(), args.rend());  // CLI11 takes them last first
   try {
     app.parse(reversed);
   } catch (const CLI::ParseError& e) {
     return InvalidArgument(e.what());
   }
-  MCPOSE_RETURN_IF_ERROR(flags.Finish());
+  return flags.Finish();
+}
+
+}  // namespace
+
+StatusOr<EstimatorOptions> ParseEstimatorOptions(const std::vector<std::string>& args) {
+  CLI::App app{"mcpose estimator options"};
+  EstimatorFlags flags;
+  AddEstimatorFlags(&app, kAllEstimatorFlags, &flags);
+  MCPOSE_RETURN_IF_ERROR(ParseArgs(app, flags, args));
   return flags.options;
 }
 
@@ -209,13 +218,7 @@ StatusOr<TrackerOptions> ParseTrackerOptions(const std::vector<std::string>& arg
   TrackerOptions options;
   AddTrackerFlags(&app, &options);
   AddEstimatorFlags(&app, kAllEstimatorFlags, &flags);
-  std::vector<std::string> reversed(args.rbegin(), args.rend());  // CLI11 takes them last first
-  try {
-    app.parse(reversed);
-  } catch (const CLI::ParseError& e) {
-    return InvalidArgument(e.what());
-  }
-  MCPOSE_RETURN_IF_ERROR(flags.Finish());
+  MCPOSE_RETURN_IF_ERROR(ParseArgs(app, flags, args));
   options.estimator = flags.options;
   std::string error;
   if (!options.IsValid(&error)) return InvalidArgument("invalid tracker options: " + error);
