@@ -97,9 +97,8 @@ class Tracker {
 };
 
 // One frame of a video, as `mcpose track` runs it: every class with a live track or with boxes in
-// `boxes` (this frame's detections by obj_id), in increasing obj_id, each with the stream id of
-// (frame, class) that the estimator uses (so a class's first frame equals `mcpose estimate`'s
-// answer for the same boxes and seed). `meshes` holds a mesh for each such class.
+// `boxes` (this frame's detections by obj_id), in increasing obj_id, each with the stream id the
+// estimator gives (frame, class) (GroupStreamId). `meshes` holds a mesh for each such class.
 // `load_colour` (may be null: depth only) is called once, only where the options use colour and
 // one of the classes' meshes has it. Errors name the frame's class.
 StatusOr<std::vector<TrackStep>> TrackFrame(Tracker& tracker, const Frame& frame,
