@@ -141,6 +141,19 @@ std::string EditMeta(const fs::path& ycbv, const std::function<void(io::YcbvMeta
   return p.string();
 }
 
+// Rewrites meta.mat (uncompressed), then overwrites the bytes at `offset` in the dimensions
+// sub-element of its first variable (intrinsic_matrix: miINT32 tag, 8 bytes, 3, 3) with `with`.
+std::string PatchFirstDimensions(const fs::path& ycbv, size_t offset, const std::string& with) {
+  const std::string p = EditMeta(ycbv, [](io::YcbvMeta&) {});
+  std::string bytes = ReadText(p);
+  const std::string dims("\x05\0\0\0\x08\0\0\0\x03\0\0\0\x03\0\0\0", 16);
+  const size_t at = bytes.find(dims);
+  EXPECT_NE(at, std::string::npos);
+  bytes.replace(at + offset, with.size(), with);
+  Replace(p, bytes);
+  return p;
+}
+
 // The sugar box's OBJ (class 3) with `edit` applied to its text.
 std::string EditObj(const fs::path& ycbv, const std::function<void(std::string&)>& edit) {
   const fs::path p = testing::OwnModel(ycbv, "004_sugar_box") / "textured_simple.obj";
@@ -243,25 +256,10 @@ const HostileCase kCases[] = {
     {"meta_translation_1e308", Y, V, [](const fs::path& r) {
        return EditMeta(r, [](io::YcbvMeta& m) { m.poses[0].t.x() = 1e308; }); }},
     {"meta_intrinsics_claim_a_huge_size", Y, E, [](const fs::path& r) {
-       const std::string p = EditMeta(r, [](io::YcbvMeta&) {});
-       std::string bytes = ReadText(p);
-       // The dimensions sub-element of the first variable (intrinsic_matrix): miINT32, 8 bytes, 3, 3.
-       const std::string dims("\x05\0\0\0\x08\0\0\0\x03\0\0\0\x03\0\0\0", 16);
-       const size_t at = bytes.find(dims);
-       EXPECT_NE(at, std::string::npos);
-       bytes.replace(at + 8, 8, std::string("\xff\xff\xff\x7f\xff\xff\xff\x7f", 8));
-       Replace(p, bytes);
-       return p; }},
+       return PatchFirstDimensions(r, 8, std::string("\xff\xff\xff\x7f\xff\xff\xff\x7f", 8)); }},
+    // The dimensions tag of the first variable claims 4,227,858,432 bytes (a rank of 10^9).
     {"meta_dimensions_tag_claims_4_gb", Y, E, [](const fs::path& r) {
-       const std::string p = EditMeta(r, [](io::YcbvMeta&) {});
-       std::string bytes = ReadText(p);
-       // The dimensions tag of the first variable claims 4,227,858,432 bytes (a rank of 10^9).
-       const std::string dims("\x05\0\0\0\x08\0\0\0\x03\0\0\0\x03\0\0\0", 16);
-       const size_t at = bytes.find(dims);
-       EXPECT_NE(at, std::string::npos);
-       bytes.replace(at + 4, 4, std::string("\0\0\0\xfc", 4));
-       Replace(p, bytes);
-       return p; }},
+       return PatchFirstDimensions(r, 4, std::string("\0\0\0\xfc", 4)); }},
     // ---- Meshes and points ----
     {"obj_nan_vertex", Y, E, [](const fs::path& r) { return EditObj(r, FirstVertex("v nan 0 0")); }},
     {"obj_inf_vertex", Y, E, [](const fs::path& r) { return EditObj(r, FirstVertex("v 0 inf 0")); }},
