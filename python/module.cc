@@ -300,6 +300,10 @@ py::dict EstimateOne(PyEstimator& self, const Intrinsics& K, const DepthImage& d
 // ---- The tracker ---------------------------------------------------------------------------
 struct PyTracker {
   std::unique_ptr<Tracker> tracker;
+  // The meshes track_frame has read, kept from frame to frame (a frame must not copy them
+  // again), and the dataset they came from (held, so that it is not another at the same address).
+  py::object mesh_dataset;
+  std::map<int, Mesh> meshes;
 };
 
 py::dict StepDict(const TrackStep& s) {
@@ -545,7 +549,8 @@ PYBIND11_MODULE(_mcpose, m) {
            },
            py::arg("depth"), py::arg("K"), py::arg("mesh"), py::arg("obj_id"), py::arg("boxes"),
            py::arg("rgb") = py::none(), py::arg("stream_id") = 0)
-      .def("track_frame", [](PyTracker& self, const PyFrame& frame, const py::iterable& detections, const PyDataset& ds) {
+      .def("track_frame", [](PyTracker& self, const PyFrame& frame, const py::iterable& detections, py::object dataset) {
+        const PyDataset& ds = dataset.cast<const PyDataset&>();
         const Frame& f = frame.frame;
         std::map<int, std::vector<Detection>> boxes;
         for (const Detection& d : DetectionsFromPython(detections))
@@ -557,10 +562,13 @@ PYBIND11_MODULE(_mcpose, m) {
         std::set<int> classes;
         for (int id : self.tracker->TrackedIds()) classes.insert(id);
         for (const auto& [id, dets] : boxes) classes.insert(id);
-        std::map<int, Mesh> meshes;
+        if (!self.mesh_dataset.is(dataset)) self.meshes.clear(), self.mesh_dataset = dataset;
         std::map<int, const Mesh*> mesh_of;
-        for (int id : classes) meshes.emplace(id, Value(ds.ds->LoadMesh(id)));
-        for (const auto& [id, mesh] : meshes) mesh_of[id] = &mesh;
+        for (int id : classes) {
+          auto it = self.meshes.find(id);
+          if (it == self.meshes.end()) it = self.meshes.emplace(id, Value(ds.ds->LoadMesh(id))).first;
+          mesh_of[id] = &it->second;
+        }
         StatusOr<std::vector<TrackStep>> steps = Status::Ok();
         {
           py::gil_scoped_release release;
