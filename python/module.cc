@@ -25,6 +25,7 @@
 #include "mcpose/eval.h"
 #include "mcpose/results.h"
 #include "mcpose/tracker.h"
+#include "mcpose/version.h"
 
 namespace py = pybind11;
 
@@ -172,6 +173,7 @@ class MeshCachingDataset final : public Dataset {
 // ---- Python-side holders ------------------------------------------------------------------
 struct PyDataset {
   std::unique_ptr<Dataset> ds;
+  std::string split;
 };
 struct PyFrame {
   Frame frame;
@@ -213,18 +215,28 @@ ColourImage ColourFromPython(const py::array_t<uint8_t, py::array::c_style | py:
   return c;
 }
 
+// Locks `mutex` without holding the GIL while it waits: the thread that holds the mutex may
+// need the GIL before it lets go.
+std::unique_lock<std::mutex> LockReleasingGil(std::mutex& mutex) {
+  py::gil_scoped_release release;
+  return std::unique_lock<std::mutex>(mutex);
+}
+
 // ---- The estimator ------------------------------------------------------------------------
+// An Estimator's buffers serve one estimate at a time: calls from several Python threads (the
+// GIL is released while the engine runs) take turns on `mutex`.
 struct PyEstimator {
   EstimatorOptions options;
   std::unique_ptr<Estimator> estimator;
+  std::unique_ptr<std::mutex> mutex = std::make_unique<std::mutex>();
 
+  // The estimator of `seed` (the options' seed when none); the caller holds `mutex`.
   Estimator& ForSeed(std::optional<uint64_t> seed) {
-    if (seed && *seed != estimator->options().seed) {
+    const uint64_t want = seed ? *seed : options.seed;
+    if (estimator->options().seed != want) {
       EstimatorOptions o = options;
-      o.seed = *seed;
+      o.seed = want;
       estimator = Value(Estimator::Create(o));
-    } else if (!seed && estimator->options().seed != options.seed) {
-      estimator = Value(Estimator::Create(options));
     }
     return *estimator;
   }
@@ -269,37 +281,41 @@ std::map<int, std::vector<Detection>> ByClass(const std::vector<Detection>& dets
   return by_class;
 }
 
-py::dict EstimateOne(PyEstimator& self, const Intrinsics& K, const DepthImage& depth, const ColourImage* colour,
-                     const std::vector<Detection>& dets, const std::map<int, const Mesh*>& meshes,
-                     std::optional<uint64_t> seed, const std::function<std::string(int)>& name_of) {
-  FrameKey key;
-  const std::map<int, std::vector<Detection>> by_class = ByClass(dets, &key);
+// The detections of one image by class, each with a mesh in `meshes` and a box inside the image.
+std::map<int, std::vector<Detection>> CheckedByClass(const std::vector<Detection>& dets, const Intrinsics& K,
+                                                     const std::function<bool(int)>& has_mesh, FrameKey* key) {
+  std::map<int, std::vector<Detection>> by_class = ByClass(dets, key);
   for (size_t i = 0; i < dets.size(); ++i) {
-    if (!meshes.count(dets[i].obj_id))
+    if (!has_mesh(dets[i].obj_id))
       throw py::value_error("detection " + std::to_string(i) + ": no mesh for category_id " +
                             std::to_string(dets[i].obj_id));
     if (Status st = engine::CheckBox(dets[i], K); !st.ok())
       throw py::value_error("detection " + std::to_string(i) + " (category_id " + std::to_string(dets[i].obj_id) +
                             "): " + st.message());
   }
+  return by_class;
+}
+
+// Runs `estimate(estimator)` with the estimator of `seed`, the GIL released; {obj_id: dict}.
+template <typename Fn>
+py::dict EstimateLocked(PyEstimator& self, std::optional<uint64_t> seed, const Fn& estimate) {
+  const std::unique_lock<std::mutex> lock = LockReleasingGil(*self.mutex);
   Estimator& estimator = self.ForSeed(seed);
   StatusOr<ImageEstimate> image = Status::Ok();
   {
     py::gil_scoped_release release;
-    image = EstimateImage(estimator, key, K, depth, colour, by_class, meshes, nullptr, nullptr);
+    image = estimate(estimator);
   }
-  ImageEstimate result = Value(std::move(image));
   py::dict out;
-  for (ObjectRecord& r : result.objects) {
-    if (name_of) r.name = name_of(r.obj_id);
-    out[py::int_(r.obj_id)] = ObjectDict(r);
-  }
+  for (const ObjectRecord& r : Value(std::move(image)).objects) out[py::int_(r.obj_id)] = ObjectDict(r);
   return out;
 }
 
 // ---- The tracker ---------------------------------------------------------------------------
+// One frame at a time, as PyEstimator: calls from several threads take turns on `mutex`.
 struct PyTracker {
   std::unique_ptr<Tracker> tracker;
+  std::unique_ptr<std::mutex> mutex = std::make_unique<std::mutex>();
   // The meshes track_frame has read, kept from frame to frame (a frame must not copy them
   // again), and the dataset they came from (held, so that it is not another at the same address).
   py::object mesh_dataset;
@@ -345,6 +361,7 @@ PYBIND11_MODULE(_mcpose, m) {
   using namespace mcpose;
   using namespace mcpose::python;
   m.doc() = "mcpose's C++ library; use the mcpose package, which documents each call.";
+  m.attr("__version__") = Version();
 
   py::class_<PyColour>(m, "_ColourBuffer");
 
@@ -403,7 +420,7 @@ PYBIND11_MODULE(_mcpose, m) {
 
   py::class_<PyDataset>(m, "Dataset")
       .def(py::init([](const std::string& path, const std::string& split, const std::string& models) {
-             return PyDataset{std::make_unique<MeshCachingDataset>(Value(Dataset::Open(path, split, models)))};
+             return PyDataset{std::make_unique<MeshCachingDataset>(Value(Dataset::Open(path, split, models))), split};
            }),
            py::arg("path"), py::arg("split") = "test", py::arg("models") = "")
       .def_property_readonly("root", [](const PyDataset& s) { return s.ds->root(); })
@@ -472,33 +489,39 @@ PYBIND11_MODULE(_mcpose, m) {
              if (rgb) colour = ColourFromPython(*rgb, intr.width, intr.height);
              std::map<int, const Mesh*> mesh_of;
              for (const auto& [id, mesh] : meshes) mesh_of[id.cast<int>()] = &mesh.cast<const PyMesh&>().mesh;
-             return EstimateOne(self, intr, d, colour ? &*colour : nullptr, DetectionsFromPython(detections), mesh_of,
-                                seed, nullptr);
+             FrameKey key;
+             const auto by_class = CheckedByClass(DetectionsFromPython(detections), intr,
+                                                  [&](int id) { return mesh_of.count(id) > 0; }, &key);
+             return EstimateLocked(self, seed, [&](Estimator& estimator) {
+               return EstimateImage(estimator, key, intr, d, colour ? &*colour : nullptr, by_class, mesh_of, nullptr,
+                                    nullptr);
+             });
            },
            py::arg("depth"), py::arg("K"), py::arg("detections"), py::arg("meshes"), py::arg("rgb") = py::none(),
            py::arg("seed") = py::none())
       .def("estimate_frame",
            [](PyEstimator& self, const PyFrame& frame, const py::iterable& detections, const PyDataset& ds,
               std::optional<uint64_t> seed) {
-             std::vector<Detection> dets;
-             for (const Detection& d : DetectionsFromPython(detections))
-               if (d.scene_id == frame.frame.key.scene_id && d.image_id == frame.frame.key.image_id) dets.push_back(d);
+             const Frame& f = frame.frame;
+             std::vector<Detection> dets = DetectionsFromPython(detections);
+             std::erase_if(dets, [&](const Detection& d) {
+               return d.scene_id != f.key.scene_id || d.image_id != f.key.image_id;
+             });
+             FrameKey key;
+             const auto by_class = CheckedByClass(dets, f.K, [](int) { return true; }, &key);
              std::map<int, Mesh> meshes;
              std::map<int, const Mesh*> mesh_of;
-             for (const Detection& d : dets)
-               if (!meshes.count(d.obj_id)) meshes.emplace(d.obj_id, Value(ds.ds->LoadMesh(d.obj_id)));
-             for (const auto& [id, mesh] : meshes) mesh_of[id] = &mesh;
-             std::map<int, std::vector<Detection>> by_class;
-             for (const Detection& d : dets) by_class[d.obj_id].push_back(d);
-             std::optional<ColourImage> colour;
-             if (ImageWantsColour(self.options, by_class, mesh_of)) colour = Value(ds.ds->LoadColour(frame.frame));
-             return EstimateOne(self, frame.frame.K, frame.frame.depth, colour ? &*colour : nullptr, dets, mesh_of,
-                                seed, [&](int id) { return ds.ds->ObjectName(id); });
+             for (const auto& [id, boxes] : by_class)
+               mesh_of[id] = &meshes.emplace(id, Value(ds.ds->LoadMesh(id))).first->second;
+             return EstimateLocked(self, seed, [&](Estimator& estimator) {
+               return EstimateFrame(estimator, *ds.ds, f, by_class, mesh_of, nullptr);
+             });
            },
            py::arg("frame"), py::arg("detections"), py::arg("dataset"), py::arg("seed") = py::none())
       .def("run",
            [](PyEstimator& self, const PyDataset& ds, const py::iterable& detections, const std::string& source) {
              const std::vector<Detection> dets = DetectionsFromPython(detections);
+             const std::unique_lock<std::mutex> lock = LockReleasingGil(*self.mutex);
              Estimator& estimator = self.ForSeed(std::nullopt);
              StatusOr<RunReport> report = Status::Ok();
              {
@@ -511,19 +534,28 @@ PYBIND11_MODULE(_mcpose, m) {
            },
            py::arg("dataset"), py::arg("detections"), py::arg("source") = "detections",
            "Checks and estimates like `mcpose estimate`; the results rows as tuples")
-      .def("fingerprint", [](const PyEstimator& self, const py::iterable& detections) {
-        return io::RunFingerprint(self.options, DetectionsFromPython(detections));
+      .def("fingerprint", [](const PyEstimator& self, const py::iterable& detections, const PyDataset& ds) {
+        return io::RunFingerprint(self.options, DetectionsFromPython(detections),
+                                  {ds.ds->root(), ds.split, ds.ds->models_dir()});
       });
 
   py::class_<PyTracker>(m, "Tracker")
       .def(py::init([](const std::vector<std::string>& args) {
-        return PyTracker{Value(Tracker::Create(Value(cli::ParseTrackerOptions(args))))};
+        PyTracker t;
+        t.tracker = Value(Tracker::Create(Value(cli::ParseTrackerOptions(args))));
+        return t;
       }))
       .def_property_readonly("options_json", [](const PyTracker& s) {
         return io::TrackerOptionsToJson(s.tracker->options()).dump();
       })
-      .def_property_readonly("tracked_ids", [](const PyTracker& s) { return s.tracker->TrackedIds(); })
-      .def("reset", [](PyTracker& s, int obj_id) { s.tracker->Reset(obj_id); })
+      .def_property_readonly("tracked_ids", [](const PyTracker& s) {
+        const std::unique_lock<std::mutex> lock = LockReleasingGil(*s.mutex);
+        return s.tracker->TrackedIds();
+      })
+      .def("reset", [](PyTracker& s, int obj_id) {
+        const std::unique_lock<std::mutex> lock = LockReleasingGil(*s.mutex);
+        s.tracker->Reset(obj_id);
+      })
       .def("track",
            [](PyTracker& self, const py::array_t<float, py::array::c_style | py::array::forcecast>& depth,
               const py::array_t<double, py::array::c_style | py::array::forcecast>& K, const PyMesh& mesh, int obj_id,
@@ -540,6 +572,7 @@ PYBIND11_MODULE(_mcpose, m) {
                if (Status st = engine::CheckBox(dets[i], intr); !st.ok())
                  throw py::value_error("box " + std::to_string(i) + ": " + st.message());
              }
+             const std::unique_lock<std::mutex> lock = LockReleasingGil(*self.mutex);
              StatusOr<TrackStep> step = Status::Ok();
              {
                py::gil_scoped_release release;
@@ -559,6 +592,7 @@ PYBIND11_MODULE(_mcpose, m) {
               throw py::value_error("detection of category_id " + std::to_string(d.obj_id) + ": " + st.message());
             boxes[d.obj_id].push_back(d);
           }
+        const std::unique_lock<std::mutex> lock = LockReleasingGil(*self.mutex);
         std::set<int> classes;
         for (int id : self.tracker->TrackedIds()) classes.insert(id);
         for (const auto& [id, dets] : boxes) classes.insert(id);

@@ -69,7 +69,10 @@ run_tsan() {  # DIR DEBUG_LEVEL TEST_FILTER [ctest selection args]
 case "$MODE" in
   asan) run_asan build-asan -g1 "" ;;
   tsan) run_tsan build-tsan -g1 "" -R "$THREADED_SUITES" ;;
-  all) run_asan build-asan -g1 "" && run_tsan build-tsan -g1 "" -R "$THREADED_SUITES" ;;
+  # One simple command a line: set -e stops at the first failure (it does not inside an && list).
+  all)
+    run_asan build-asan -g1 ""
+    run_tsan build-tsan -g1 "" -R "$THREADED_SUITES" ;;
   ci)
     EXTRA_DEFINES="$CI_ASAN_DEFINES" run_asan build-asan-ci -g0 "$CI_ASAN_TESTS" -E '^scripts\.'
     run_tsan build-tsan-ci -g0 "$CI_TSAN_TESTS" -E "$CI_TSAN_SKIP" ;;

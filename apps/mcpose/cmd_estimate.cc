@@ -90,7 +90,10 @@ Status RunEstimate(EstimateArgs& a) {
                            "finished is not kept");
   // Each finished image goes to the journal OUT.partial at once; the CSV is written at the end.
   MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<io::ResultsJournal> journal,
-                          io::ResultsJournal::Open(a.out, io::RunFingerprint(o, detections), a.resume));
+                          io::ResultsJournal::Open(a.out,
+                                                   io::RunFingerprint(o, detections,
+                                                                      {a.dataset, a.split, dataset->models_dir()}),
+                                                   a.resume));
   if (journal->kept_images() > 0 && !a.quiet)
     spdlog::info("resuming: {} finished images kept from {}", journal->kept_images(), io::JournalPath(a.out));
 
@@ -130,9 +133,12 @@ Status RunEstimate(EstimateArgs& a) {
     for (const auto& r : report.objects) total_s += r.time_s, iterations += r.estimate.iterations.size();
     size_t rows = 0;
     for (const auto& [key, image_rows] : journal->images()) rows += image_rows.size();
-    std::printf("%zu objects in %zu result rows, %.1f s, %.1f ms per iteration; results: %s\n",
-                report.objects.size(), rows, total_s,
-                iterations ? 1000.0 * total_s / static_cast<double>(iterations) : 0.0, a.out.c_str());
+    std::string kept;
+    if (journal->kept_images() > 0)
+      kept = " (and " + std::to_string(journal->kept_images()) + " images kept from the journal)";
+    std::printf("%zu objects estimated in %.1f s, %.1f ms per iteration%s; %zu result rows: %s\n",
+                report.objects.size(), total_s, iterations ? 1000.0 * total_s / static_cast<double>(iterations) : 0.0,
+                kept.c_str(), rows, a.out.c_str());
   }
   return Status::Ok();
 }

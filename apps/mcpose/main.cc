@@ -3,12 +3,14 @@
 #include <spdlog/spdlog.h>
 
 #include "commands.h"
+#include "mcpose/version.h"
 
 int main(int argc, char** argv) {
   CLI::App app{
       "mcpose: 6-DoF object pose estimation by Monte-Carlo sampling on RGB-D frames\n"
       "(YCB-Video native and BOP datasets)."};
   app.require_subcommand(1);
+  app.set_version_flag("--version", mcpose::Version());
   mcpose::Status status;
   mcpose::cli::AddEstimateCommand(app, &status);
   mcpose::cli::AddDetectionsFromGtCommand(app, &status);

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _mcpose
-from ._mcpose import Frame, Mesh, read_detections, write_detections  # noqa: F401
+from ._mcpose import Frame, Mesh, __version__, read_detections, write_detections  # noqa: F401
 
 __all__ = ["Dataset", "Estimator", "ObjectResult", "Tracker", "TrackStep", "Frame", "Mesh", "read_detections",
            "write_detections", "PER_ITERATION_DTYPE"]
@@ -120,7 +120,9 @@ class Estimator:
     ``_`` (``samples=620``, ``max_grid_pixels=0``, ``engine="scalar"``, ``weights=(a, b, c)``,
     ``appearance=False`` or ``"off"``, ``resolve_twins=False``), with the same defaults, and
     parsed and checked by the same code: a bad option raises ``ValueError`` with the message the
-    command line prints. The GIL is released while the engine runs.
+    command line prints. The GIL is released while the engine runs; one estimator serves one call
+    at a time (calls from other threads wait their turn), so threads that estimate at once each
+    need their own.
     """
 
     def __init__(self, **options):
@@ -159,9 +161,11 @@ class Estimator:
         metres), time_s)``."""
         return self._impl.run(dataset, list(detections), source)
 
-    def fingerprint(self, detections):
-        """What decides the rows of a run (options but threads, detections): a journal's key."""
-        return self._impl.fingerprint(list(detections))
+    def fingerprint(self, detections, dataset):
+        """What decides the rows of a run on ``dataset``: the options but the thread count, the
+        detections, the dataset's folder, split and models folder, and mcpose's version. A
+        results journal is resumed only under the same fingerprint."""
+        return self._impl.fingerprint(list(detections), dataset)
 
 
 @dataclass

@@ -17,6 +17,7 @@ import argparse
 import os
 import sys
 import time
+import uuid
 
 from . import Dataset, _mcpose
 
@@ -89,17 +90,20 @@ def run(args, estimator_args, client):
     by_image = {}
     for d in detections:
         by_image.setdefault((d["scene_id"], d["image_id"]), []).append(d)
-    journal = _mcpose.ResultsJournal(args.out, estimator.fingerprint(detections), args.resume)
+    fingerprint = estimator.fingerprint(detections, dataset)
+    journal = _mcpose.ResultsJournal(args.out, fingerprint, args.resume)
     pending = [k for k in sorted(by_image) if not journal.has(*k)]
     if journal.kept_images and not args.quiet:
         print(f"resuming: {journal.kept_images} finished images kept from {args.out}.partial", file=sys.stderr)
 
     from distributed import as_completed
+    # Task keys are unique to this run: two runs on one cluster never share (or cancel) a task.
+    run_id = f"{fingerprint}-{uuid.uuid4().hex}"
     futures = {}
     for key in pending:
         fut = client.submit(_estimate_image, os.path.abspath(args.dataset), args.split,
                             os.path.abspath(args.models) if args.models else "", estimator_args,
-                            by_image[key], args.detections, key=f"mcpose-image-{key[0]}-{key[1]}-{os.getpid()}",
+                            by_image[key], args.detections, key=f"mcpose-image-{key[0]}-{key[1]}-{run_id}",
                             retries=args.retries, pure=False)
         futures[fut] = key
     progress = _Progress(len(by_image), len(by_image) - len(pending), args.quiet)
@@ -110,6 +114,31 @@ def run(args, estimator_args, client):
     progress.close()
     journal.finish()
     return sum(len({d["category_id"] for d in dets}) for dets in by_image.values())  # a row per (image, class)
+
+
+def _is_cluster_error(e):
+    """Whether ``e`` is how a task or the cluster failed: an estimation error raised on a
+    worker (RuntimeError), a task whose workers all died (KilledWorker), a cancelled task, a
+    lost scheduler (CommClosedError, TimeoutError)."""
+    import concurrent.futures
+    from distributed import KilledWorker
+    from distributed.comm.core import CommClosedError
+    return isinstance(e, (RuntimeError, KilledWorker, CommClosedError, TimeoutError,
+                          concurrent.futures.CancelledError))
+
+
+def _cluster_message(e, out):
+    from distributed import KilledWorker
+    if isinstance(e, KilledWorker):
+        text = f"task {e.task} was lost with {e.allowed_failures + 1} workers that died running it"
+        worker = getattr(e.last_worker, "address", None)
+        if worker:
+            text += f" (the last {worker})"
+    else:
+        text = f"{type(e).__name__}: {e}" if str(e) else type(e).__name__
+    if os.path.exists(out + ".partial"):
+        text += f"; the images finished are kept in {out}.partial: rerun with --resume"
+    return text
 
 
 def main(argv=None):
@@ -134,6 +163,11 @@ def main(argv=None):
                 rows = run(args, estimator_args, client)
     except (ValueError, OSError) as e:
         print(f"mcpose.distributed: error: {e}", file=sys.stderr)
+        return 1
+    except Exception as e:  # noqa: BLE001 - the cluster's failures, reported in one line
+        if not _is_cluster_error(e):
+            raise
+        print(f"mcpose.distributed: error: {_cluster_message(e, args.out)}", file=sys.stderr)
         return 1
     if not args.quiet:
         print(f"{rows} result rows; results: {args.out}")

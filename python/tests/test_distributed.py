@@ -87,3 +87,49 @@ def test_bad_option_is_the_cli_message(run_detections, tmp_path):
                        text=True, timeout=60)
     assert r.returncode == 1
     assert "--engine must be" in r.stderr and not (tmp_path / "r.csv").exists()
+
+
+def test_cluster_failures_are_one_line(run_detections, tmp_path, monkeypatch, capsys):
+    """A task's error on a worker, a task whose workers all died, a cancelled task: one line,
+    exit 1, and --resume named once a journal holds finished images; anything else is a bug and
+    is not hidden."""
+    import concurrent.futures
+
+    import distributed
+    import mcpose.distributed as runner
+
+    class NoCluster:
+        def __init__(self, address):
+            pass
+
+        def __enter__(self):
+            return self
+
+        def __exit__(self, *exc):
+            return False
+
+    def failing(exc):
+        def run(*args):
+            raise exc
+        return run
+
+    monkeypatch.setattr(distributed, "Client", NoCluster)
+    out = tmp_path / "r.csv"
+    argv = ["--dataset", str(YCBV), "--detections", str(run_detections), "--out", str(out), "--scheduler",
+            "tcp://127.0.0.1:1", "-q"]
+    killed = distributed.KilledWorker("mcpose-image-49-2-abc", None, 2)
+    for exc, line in [(RuntimeError("49/2: bad depth"), "RuntimeError: 49/2: bad depth"),
+                      (concurrent.futures.CancelledError("mcpose-image-49-1-abc"),
+                       "CancelledError: mcpose-image-49-1-abc"),
+                      (killed, "task mcpose-image-49-2-abc was lost with 3 workers that died running it")]:
+        monkeypatch.setattr(runner, "run", failing(exc))
+        assert runner.main(argv) == 1
+        assert capsys.readouterr().err == f"mcpose.distributed: error: {line}\n"
+    (tmp_path / "r.csv.partial").write_text("# mcpose results journal 0\n")
+    monkeypatch.setattr(runner, "run", failing(RuntimeError("lost")))
+    assert runner.main(argv) == 1
+    assert capsys.readouterr().err == (f"mcpose.distributed: error: RuntimeError: lost; the images finished are "
+                                       f"kept in {out}.partial: rerun with --resume\n")
+    monkeypatch.setattr(runner, "run", failing(KeyError("a bug")))
+    with pytest.raises(KeyError):
+        runner.main(argv)

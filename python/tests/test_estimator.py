@@ -80,6 +80,29 @@ def test_estimate_equals_cli(ycbv, tmp_path):
         assert np.array_equal(again[obj_id].T_cam_obj, r.T_cam_obj), obj_id
 
 
+def test_one_estimator_shared_by_threads(ycbv):
+    """Threads calling one estimator take turns: each gets the poses of a call made alone."""
+    import threading
+    dets = [d for d in ycbv.detections_from_gt(seed=2) if d["scene_id"] == 49 and d["image_id"] in (1, 2, 3)]
+    est = mcpose.Estimator(seed=7, threads=1, samples=150, iterations=8)
+    frames = [ycbv.load_frame(49, i) for i in (1, 2, 3)]
+    alone = [est.estimate_frame(f, dets, ycbv, seed=s) for f, s in zip(frames, (7, 8, 9))]
+    got = [None] * 3
+
+    def work(k):
+        got[k] = est.estimate_frame(frames[k], dets, ycbv, seed=7 + k)  # each its own seed
+
+    threads = [threading.Thread(target=work, args=(k,)) for k in range(3)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    for k in range(3):
+        assert sorted(got[k]) == sorted(alone[k])
+        for obj_id, r in alone[k].items():
+            assert np.array_equal(got[k][obj_id].T_cam_obj, r.T_cam_obj), (k, obj_id)
+
+
 def test_options_match_cli_defaults():
     o = mcpose.Estimator().options
     assert o["samples"] == 620 and o["max_iterations"] == 50 and o["seed"] == 0

@@ -5,6 +5,8 @@ import signal
 import subprocess
 import time
 
+import pytest
+
 import mcpose
 from conftest import CLI, FAST, YCBV, cli_error, rows_without_time, run_cli
 
@@ -44,8 +46,8 @@ def test_sigkill_then_resume(cli_run, run_detections, tmp_path):
 
 
 def test_resume_of_a_cut_line_and_of_nothing(cli_run, run_detections, tmp_path):
-    """--resume without a journal is a fresh run; a journal cut inside a row (power loss) loses
-    only that image."""
+    """--resume without a journal is a fresh run; a journal cut inside an image, or torn by a
+    power loss, loses only that image."""
     out = tmp_path / "cut.csv"
     args = ["estimate", "--dataset", YCBV, "--detections", run_detections, "--out", out, "--seed", 3, "-q", *FAST]
     run_cli(*args, "--resume")
@@ -55,8 +57,11 @@ def test_resume_of_a_cut_line_and_of_nothing(cli_run, run_detections, tmp_path):
     first = [line for line in lines if line.startswith("49,1,")]
     second = [line for line in lines if line.startswith("49,2,")]
     options = {flag.lstrip("-").replace("-", "_"): value for flag, value in zip(FAST[::2], FAST[1::2])}
-    fingerprint = mcpose.Estimator(seed=3, **options).fingerprint(mcpose.read_detections(str(run_detections)))
-    journal = [f"# mcpose results journal {fingerprint}", *first, f"# done 49 1 {len(first)}", second[0][:25]]
+    fingerprint = mcpose.Estimator(seed=3, **options).fingerprint(mcpose.read_detections(str(run_detections)),
+                                                                  mcpose.Dataset(YCBV))
+    # A row cut short, then what a torn write can leave behind: zeros and a stale row's tail.
+    journal = [f"# mcpose results journal {fingerprint}", *first, f"# done 49 1 {len(first)}", second[0],
+               "\0" * 40, second[1][10:], second[2][:25]]
     out.unlink()
     (tmp_path / "cut.csv.partial").write_text("\n".join(journal))
     r = run_cli(*args[:-len(FAST) - 1], *FAST, "--resume")
@@ -70,6 +75,36 @@ def test_resume_refuses_other_options(run_detections, tmp_path):
     out = tmp_path / "r.csv"
     (tmp_path / "r.csv.partial").write_text("# mcpose results journal 0123456789abcdef\n")
     message = cli_error("estimate", "--dataset", YCBV, "--detections", run_detections, "--out", out, "--resume")
-    assert message == f"{out}.partial: was written by a run with other options or detections; rerun without " \
-                      "--resume to start afresh"
+    assert message == f"{out}.partial: was written by a run with other options, detections, dataset or mcpose " \
+                      "version; rerun without --resume to start afresh"
     assert not out.exists()
+
+
+def test_fingerprint_names_the_dataset_split_and_models(run_detections, tmp_path):
+    """A journal is resumed only by a run on the same dataset folder (however it is named), split
+    and models folder."""
+    dets = mcpose.read_detections(str(run_detections))
+    est = mcpose.Estimator(seed=3)
+    base = est.fingerprint(dets, mcpose.Dataset(YCBV))
+    assert est.fingerprint(dets, mcpose.Dataset(str(YCBV) + "/./")) == base
+    models = tmp_path / "models"
+    models.symlink_to(YCBV / "models")
+    assert est.fingerprint(dets, mcpose.Dataset(YCBV, models=models)) == base  # the same folder, another name
+    assert est.fingerprint(dets, mcpose.Dataset(YCBV, split="train")) != base
+    copy = tmp_path / "ycbv"
+    copy.mkdir()
+    for entry in YCBV.iterdir():
+        (copy / entry.name).symlink_to(entry)
+    assert est.fingerprint(dets, mcpose.Dataset(copy)) != base  # another dataset folder
+    assert mcpose.Estimator(seed=3, threads=1).fingerprint(dets, mcpose.Dataset(YCBV)) == base
+    assert mcpose.Estimator(seed=4).fingerprint(dets, mcpose.Dataset(YCBV)) != base
+
+
+def test_a_second_run_on_the_same_output_is_refused(tmp_path):
+    """One run at a time holds a journal: a second one on the same OUT stops at once."""
+    out = str(tmp_path / "r.csv")
+    first = mcpose._mcpose.ResultsJournal(out, "abc", False)
+    with pytest.raises(ValueError, match=r"r\.csv\.partial: in use by another run writing .*r\.csv"):
+        mcpose._mcpose.ResultsJournal(out, "abc", True)
+    del first
+    assert mcpose._mcpose.ResultsJournal(out, "abc", True).kept_images == 0

@@ -260,11 +260,10 @@ std::string ObjWithoutMaterial(const std::string& text) {
   return out.str();
 }
 
+// Through io::WriteFileAtomic, as every output: no half-copied file under the final name.
 Status CopyFile(const std::string& from, const std::string& to) {
-  std::error_code ec;
-  fs::copy_file(from, to, fs::copy_options::overwrite_existing, ec);
-  if (ec) return Internal(to + ": cannot copy " + from + " (" + ec.message() + ")");
-  return Status::Ok();
+  MCPOSE_ASSIGN_OR_RETURN(const std::string contents, io::ReadFileToString(from));
+  return io::WriteFileAtomic(to, contents);
 }
 
 }  // namespace

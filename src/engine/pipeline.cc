@@ -122,6 +122,18 @@ StatusOr<ImageGroups> GroupDetections(const Dataset& dataset, const std::vector<
   return groups;
 }
 
+StatusOr<ImageEstimate> EstimateFrame(Estimator& estimator, const Dataset& dataset, const Frame& frame,
+                                      const std::map<int, std::vector<Detection>>& boxes,
+                                      const std::map<int, const Mesh*>& meshes,
+                                      const std::function<void(const ObjectRecord&)>& on_object) {
+  std::optional<ColourImage> colour;
+  if (ImageWantsColour(estimator.options(), boxes, meshes)) {
+    MCPOSE_ASSIGN_OR_RETURN(colour, dataset.LoadColour(frame));
+  }
+  return EstimateImage(estimator, frame.key, frame.K, frame.depth, colour ? &*colour : nullptr, boxes, meshes,
+                       [&](int obj_id) { return dataset.ObjectName(obj_id); }, on_object);
+}
+
 StatusOr<RunReport> RunEstimation(const Dataset& dataset, const std::vector<Detection>& detections,
                                   const std::string& detections_source,
                                   const EstimatorOptions& options, const ProgressFn& progress,
@@ -158,7 +170,6 @@ StatusOr<RunReport> RunEstimation(Estimator& estimator, const Dataset& dataset,
     for (const auto& [obj_id, mesh] : meshes) m.emplace(obj_id, &mesh);
     return m;
   }();
-  const auto name_of = [&](int obj_id) { return dataset.ObjectName(obj_id); };
   RunReport report;
   int done = 0;
   for (const auto& [key, by_class] : groups) {
@@ -167,17 +178,11 @@ StatusOr<RunReport> RunEstimation(Estimator& estimator, const Dataset& dataset,
       continue;
     }
     MCPOSE_ASSIGN_OR_RETURN(Frame frame, dataset.LoadFrame(key));
-    std::optional<ColourImage> colour;
-    if (ImageWantsColour(estimator.options(), by_class, mesh_of)) {
-      MCPOSE_ASSIGN_OR_RETURN(colour, dataset.LoadColour(frame));
-    }
     const auto on_object = [&](const ObjectRecord& r) {
       ++done;
       if (progress) progress(done, total, r);
     };
-    MCPOSE_ASSIGN_OR_RETURN(ImageEstimate image,
-                            EstimateImage(estimator, key, frame.K, frame.depth, colour ? &*colour : nullptr,
-                                          by_class, mesh_of, name_of, on_object));
+    MCPOSE_ASSIGN_OR_RETURN(ImageEstimate image, EstimateFrame(estimator, dataset, frame, by_class, mesh_of, on_object));
     if (image_done) MCPOSE_RETURN_IF_ERROR(image_done(key, image.rows));
     report.results.insert(report.results.end(), image.rows.begin(), image.rows.end());
     for (ObjectRecord& r : image.objects) report.objects.push_back(std::move(r));

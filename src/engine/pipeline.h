@@ -55,6 +55,13 @@ StatusOr<ImageEstimate> EstimateImage(Estimator& estimator, const FrameKey& key,
                                       const std::function<std::string(int)>& name_of,
                                       const std::function<void(const ObjectRecord&)>& on_object);
 
+// EstimateImage on a frame of `dataset`, its colour image read only when it is used: one
+// image's step of RunEstimation. Classes are named by the dataset.
+StatusOr<ImageEstimate> EstimateFrame(Estimator& estimator, const Dataset& dataset, const Frame& frame,
+                                      const std::map<int, std::vector<Detection>>& boxes,
+                                      const std::map<int, const Mesh*>& meshes,
+                                      const std::function<void(const ObjectRecord&)>& on_object);
+
 // Whether EstimateImage would use a colour image for these classes: read it only then.
 bool ImageWantsColour(const EstimatorOptions& options, const std::map<int, std::vector<Detection>>& boxes,
                       const std::map<int, const Mesh*>& meshes);

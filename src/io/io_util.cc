@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <system_error>
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include "core/physical_limits.h"
@@ -51,6 +52,18 @@ Status WriteFileAtomic(const std::string& path, const std::string& contents) {
     fs::remove(tmp, ignored);
     return Internal(path + ": cannot rename " + tmp + " to it (" + ec.message() + ")");
   }
+  return SyncParentDirectory(path);
+}
+
+Status SyncParentDirectory(const std::string& path) {
+  fs::path dir = fs::path(path).parent_path();
+  if (dir.empty()) dir = ".";
+  const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) return Internal(dir.string() + ": cannot open folder to flush it (" + std::strerror(errno) + ")");
+  const bool synced = ::fsync(fd) == 0;
+  const int error = errno;
+  ::close(fd);
+  if (!synced) return Internal(dir.string() + ": cannot flush folder to disk (" + std::strerror(error) + ")");
   return Status::Ok();
 }
 

@@ -19,6 +19,10 @@ StatusOr<std::string> ReadFileToString(const std::string& path);
 // file of the library and the command-line tools goes through here.
 Status WriteFileAtomic(const std::string& path, const std::string& contents);
 
+// Flushes the folder holding `path` to disk, so that a rename or removal of `path` in it
+// survives a power loss.
+Status SyncParentDirectory(const std::string& path);
+
 // Strict parsers: the whole token must be a number (no leading/trailing characters).
 bool ParseDouble(std::string_view token, double* value);
 bool ParseInt(std::string_view token, int* value);

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <exception>
 #include <filesystem>
+#include <new>
 
 #include "core/physical_limits.h"
 #include "io/io_util.h"
@@ -207,8 +208,8 @@ Status ReadPng(const std::string& path, PngKind kind, const char* wanted, PngRea
   return Status::Ok();
 }
 
-// Shared PNG writer: 8- or 16-bit grayscale from big-endian row bytes, or 8-bit RGB / RGBA.
-int EncodePng(std::FILE* f, int width, int height, int bit_depth, int color_type,
+// Shared PNG encoder into `out`: 8- or 16-bit grayscale from big-endian row bytes, or 8-bit RGB / RGBA.
+int EncodePng(std::string* out, int width, int height, int bit_depth, int color_type,
               const std::vector<unsigned char>& bytes, std::string* error) {
   png_structp png =
       png_create_write_struct(PNG_LIBPNG_VER_STRING, error,
@@ -227,7 +228,16 @@ int EncodePng(std::FILE* f, int width, int height, int bit_depth, int color_type
     png_destroy_write_struct(&png, &info);
     return 1;
   }
-  png_init_io(png, f);
+  png_set_write_fn(
+      png, out,
+      [](png_structp p, png_bytep data, png_size_t length) {
+        try {
+          static_cast<std::string*>(png_get_io_ptr(p))->append(reinterpret_cast<const char*>(data), length);
+        } catch (const std::bad_alloc&) {
+          png_error(p, "out of memory");  // no C++ exception through libpng's frames
+        }
+      },
+      nullptr);
   png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height),
                bit_depth, color_type, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
                PNG_FILTER_TYPE_DEFAULT);
@@ -247,20 +257,10 @@ Status WritePng(const std::string& path, int width, int height, int bit_depth, i
     return InvalidArgument(path + ": cannot write an empty image (" + std::to_string(width) + "x" +
                            std::to_string(height) + ")");
   }
-  const std::string tmp = path + ".tmp";
-  std::FILE* f = std::fopen(tmp.c_str(), "wb");
-  if (!f) return NotFound(tmp + ": cannot create file");
-  std::string error;
-  const int result = EncodePng(f, width, height, bit_depth, color_type, bytes, &error);
-  const bool closed = std::fclose(f) == 0;
-  std::error_code ec;
-  if (result != 0 || !closed) {
-    std::filesystem::remove(tmp, ec);
-    return Internal(path + ": PNG write failed (" + (error.empty() ? "I/O error" : error) + ")");
-  }
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) return Internal(path + ": cannot rename " + tmp + " (" + ec.message() + ")");
-  return Status::Ok();
+  std::string encoded, error;
+  if (EncodePng(&encoded, width, height, bit_depth, color_type, bytes, &error) != 0)
+    return Internal(path + ": PNG encoding failed (" + (error.empty() ? "out of memory" : error) + ")");
+  return io::WriteFileAtomic(path, encoded);
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "io/results_journal.h"
 
 #include <fcntl.h>
+#include <sys/file.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -13,6 +14,7 @@
 #include "io/io_util.h"
 #include "io/options_json.h"
 #include "io/results_csv.h"
+#include "mcpose/version.h"
 
 namespace mcpose::io {
 
@@ -38,6 +40,17 @@ Status WriteAll(int fd, const std::string& path, const std::string& text) {
   return Status::Ok();
 }
 
+// Whether a line from `pos` on in `text` is an end mark.
+bool HasEndMarkFrom(const std::string& text, size_t pos) {
+  for (size_t at = pos; at < text.size();) {
+    if (std::string_view(text).substr(at, kDone.size()) == kDone) return true;
+    const size_t end = text.find('\n', at);
+    if (end == std::string::npos) return false;
+    at = end + 1;
+  }
+  return false;
+}
+
 // The finished images of a journal's text and the length of its text up to the last end mark.
 Status ParseJournal(const std::string& path, const std::string& text, const std::string& fingerprint,
                     std::map<FrameKey, std::vector<PoseResult>>* images, size_t* kept_bytes) {
@@ -55,8 +68,8 @@ Status ParseJournal(const std::string& path, const std::string& text, const std:
     if (line_no == 1) {
       if (line.substr(0, kMagic.size()) != kMagic) return InvalidArgument(where + "not a mcpose results journal");
       if (line.substr(kMagic.size()) != fingerprint)
-        return InvalidArgument(path + ": was written by a run with other options or detections; "
-                               "rerun without --resume to start afresh");
+        return InvalidArgument(path + ": was written by a run with other options, detections, dataset or "
+                               "mcpose version; rerun without --resume to start afresh");
       *kept_bytes = pos;
       continue;
     }
@@ -81,7 +94,12 @@ Status ParseJournal(const std::string& path, const std::string& text, const std:
     }
     PoseResult r;
     const std::string problem = ParseResultsCsvRow(line, &r);
-    if (!problem.empty()) return InvalidArgument(where + problem);
+    if (!problem.empty()) {
+      // A torn write (a power loss can leave zeros or a stale block after the last flushed
+      // image) is dropped like a line cut short; a bad line with a finished image after it is not.
+      if (!HasEndMarkFrom(text, pos)) break;
+      return InvalidArgument(where + problem);
+    }
     pending.push_back(r);
   }
   return Status::Ok();
@@ -89,10 +107,20 @@ Status ParseJournal(const std::string& path, const std::string& text, const std:
 
 }  // namespace
 
-std::string RunFingerprint(const EstimatorOptions& options, const std::vector<Detection>& detections) {
+std::string RunFingerprint(const EstimatorOptions& options, const std::vector<Detection>& detections,
+                           const RunSource& source) {
   EstimatorOptions o = options;
   o.engine.threads = 0;
   uint64_t h = Fnv1a(OptionsToJson(o).dump());
+  const auto absolute = [](const std::string& path) {
+    std::error_code ec;
+    const std::filesystem::path p = std::filesystem::weakly_canonical(std::filesystem::absolute(path, ec), ec);
+    return ec ? path : p.string();
+  };
+  // Each field ends with a byte no path holds, so that no two sources hash the same text.
+  for (const std::string& field : {std::string(Version()), absolute(source.dataset_root), source.split,
+                                   absolute(source.models_dir)})
+    h = Fnv1a(std::string_view(field.c_str(), field.size() + 1), h);
   for (const Detection& d : detections) {
     char text[256];
     std::snprintf(text, sizeof text, "%d %d %d %.17g %.17g %.17g %.17g %.17g\n", d.scene_id, d.image_id, d.obj_id,
@@ -109,21 +137,30 @@ std::string JournalPath(const std::string& out) { return out + ".partial"; }
 StatusOr<std::unique_ptr<ResultsJournal>> ResultsJournal::Open(const std::string& out,
                                                                const std::string& fingerprint, bool resume) {
   const std::string path = JournalPath(out);
+  const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd < 0) return NotFound(path + ": cannot create file (" + std::strerror(errno) + ")");
+  std::unique_ptr<ResultsJournal> journal(new ResultsJournal(out, fd));
+  // Two runs appending to one journal would interleave their images: the second one stops here.
+  if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+    const int error = errno;
+    if (error == EWOULDBLOCK)
+      return InvalidArgument(path + ": in use by another run writing " + out + " (wait for it or stop it)");
+    return Internal(path + ": cannot lock (" + std::strerror(error) + ")");
+  }
   std::map<FrameKey, std::vector<PoseResult>> images;
   size_t kept_bytes = 0;
-  std::error_code ec;
-  if (resume && std::filesystem::exists(path, ec)) {
+  if (resume) {
     MCPOSE_ASSIGN_OR_RETURN(std::string text, ReadFileToString(path));
     MCPOSE_RETURN_IF_ERROR(ParseJournal(path, text, fingerprint, &images, &kept_bytes));
   }
-  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0644);
-  if (fd < 0) return NotFound(path + ": cannot create file (" + std::strerror(errno) + ")");
-  std::unique_ptr<ResultsJournal> journal(new ResultsJournal(out, fd));
   // Whatever follows the last finished image (or the whole file, on a fresh start) goes.
   if (::ftruncate(fd, static_cast<off_t>(kept_bytes)) != 0 ||
       ::lseek(fd, static_cast<off_t>(kept_bytes), SEEK_SET) < 0)
     return Internal(path + ": cannot truncate (" + std::strerror(errno) + ")");
-  if (kept_bytes == 0) MCPOSE_RETURN_IF_ERROR(WriteAll(fd, path, std::string(kMagic) + fingerprint + "\n"));
+  if (kept_bytes == 0) {
+    MCPOSE_RETURN_IF_ERROR(WriteAll(fd, path, std::string(kMagic) + fingerprint + "\n"));
+    MCPOSE_RETURN_IF_ERROR(SyncParentDirectory(path));
+  }
   journal->kept_images_ = static_cast<int>(images.size());
   journal->images_ = std::move(images);
   return journal;
@@ -150,11 +187,13 @@ Status ResultsJournal::Finish() {
     return std::tie(a.scene_id, a.im_id, a.obj_id) < std::tie(b.scene_id, b.im_id, b.obj_id);
   });
   MCPOSE_RETURN_IF_ERROR(WriteResultsCsv(out_, all));
-  ::close(fd_);
-  fd_ = -1;
+  // Removed while still locked, so that no other run opens it in between.
   std::error_code ec;
   std::filesystem::remove(JournalPath(out_), ec);
-  return Status::Ok();
+  ::close(fd_);
+  fd_ = -1;
+  if (ec) return Internal(JournalPath(out_) + ": cannot remove (" + ec.message() + ")");
+  return SyncParentDirectory(JournalPath(out_));
 }
 
 }  // namespace mcpose::io

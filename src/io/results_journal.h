@@ -8,7 +8,8 @@
 //   # mcpose results journal <fingerprint>
 //   <results CSV row>                         the rows of one image, then
 //   # done <scene_id> <im_id> <rows>          that image's end mark
-// Rows after the last end mark (an image cut short) are dropped on resume.
+// Rows after the last end mark (an image cut short, or a torn write after a power loss) are
+// dropped on resume. One run at a time holds a journal: it is locked (flock) while open.
 #pragma once
 
 #include <map>
@@ -24,19 +25,29 @@
 
 namespace mcpose::io {
 
-// What decides a run's rows: the options except the thread count and SIMD target (which
-// change no result), and the detections. A journal is resumed only under the same fingerprint.
-std::string RunFingerprint(const EstimatorOptions& options, const std::vector<Detection>& detections);
+// Where a run reads its frames and meshes: the dataset root, the split, the models folder in
+// use (Dataset::models_dir()).
+struct RunSource {
+  std::string dataset_root, split, models_dir;
+};
+
+// What decides a run's rows: the options except the thread count (which changes no result;
+// the SIMD target is not an option), the detections, the dataset, split and models folder (as
+// absolute paths, so that the same folder named two ways is one) and the library's version. A
+// journal is resumed only under the same fingerprint.
+std::string RunFingerprint(const EstimatorOptions& options, const std::vector<Detection>& detections,
+                           const RunSource& source);
 
 // The journal path of results CSV `out`.
 std::string JournalPath(const std::string& out);
 
 class ResultsJournal {
  public:
-  // Opens the journal of results CSV `out`. Without `resume` a new journal replaces any old
-  // one. With `resume` the finished images of an existing journal of the same fingerprint are
-  // kept (a trailing unfinished image is cut off); no journal is a fresh start. Errors name
-  // the journal: another fingerprint, a malformed line.
+  // Opens and locks the journal of results CSV `out`. Without `resume` a new journal replaces
+  // any old one. With `resume` the finished images of an existing journal of the same
+  // fingerprint are kept (whatever follows the last end mark is cut off); no journal is a fresh
+  // start. Errors name the journal: held by another run, another fingerprint, a malformed line
+  // before the last end mark.
   static StatusOr<std::unique_ptr<ResultsJournal>> Open(const std::string& out, const std::string& fingerprint,
                                                         bool resume);
   ~ResultsJournal();
@@ -49,7 +60,7 @@ class ResultsJournal {
   // Appends one finished image's rows and its end mark, and flushes them to disk.
   Status Append(const FrameKey& key, const std::vector<PoseResult>& rows);
   // Writes every row, sorted by (scene_id, im_id, obj_id), to `out` atomically, then removes
-  // the journal.
+  // the journal (and the removal reaches the disk before this returns).
   Status Finish();
 
  private:

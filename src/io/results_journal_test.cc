@@ -61,7 +61,8 @@ TEST(ResultsJournalTest, RefusesAnotherRunsJournalAndBadLines) {
   auto other = ResultsJournal::Open(out, "def", true);
   ASSERT_FALSE(other.ok());
   EXPECT_EQ(other.status().message(), JournalPath(out) +
-            ": was written by a run with other options or detections; rerun without --resume to start afresh");
+            ": was written by a run with other options, detections, dataset or mcpose version; rerun without "
+            "--resume to start afresh");
   // A fresh start replaces it.
   auto fresh = ResultsJournal::Open(out, "def", false);
   ASSERT_TRUE(fresh.ok());
@@ -76,16 +77,73 @@ TEST(ResultsJournalTest, RefusesAnotherRunsJournalAndBadLines) {
             ": line 3: the rows before this end mark are not the 2 rows of scene_id 1, im_id 1");
 }
 
-TEST(ResultsJournalTest, FingerprintIgnoresThreadsOnly) {
+TEST(ResultsJournalTest, TornTailAfterTheLastImageIsDroppedButNotABadLineBeforeOne) {
+  const std::string out = (testing::TempDir("journal_torn") / "r.csv").string();
+  const std::string head = "# mcpose results journal abc\n" + ResultsCsvRow(Rows(1, 1, {2})[0]) + "\n# done 1 1 1\n";
+  // A power loss: a flushed image, then a block of zeros and a stale row's tail.
+  std::ofstream(JournalPath(out), std::ios::binary)
+      << head << std::string(64, '\0') << "\n" << ResultsCsvRow(Rows(1, 2, {4})[0]).substr(7) << "\n";
+  {
+    auto j = ResultsJournal::Open(out, "abc", true);
+    ASSERT_TRUE(j.ok()) << j.status().ToString();
+    EXPECT_EQ((*j)->kept_images(), 1);
+    ASSERT_TRUE((*j)->Append({1, 2}, Rows(1, 2, {4})).ok());
+  }
+  const StatusOr<std::string> text = ReadFileToString(JournalPath(out));
+  ASSERT_TRUE(text.ok());
+  EXPECT_EQ(*text, head + ResultsCsvRow(Rows(1, 2, {4})[0]) + "\n# done 1 2 1\n");  // the torn part is gone
+
+  // A bad line with a finished image after it is damage, not a torn tail.
+  std::ofstream(JournalPath(out), std::ios::binary)
+      << head << "1,2,4,garbage\n" << ResultsCsvRow(Rows(1, 3, {5})[0]) << "\n# done 1 3 1\n";
+  auto bad = ResultsJournal::Open(out, "abc", true);
+  ASSERT_FALSE(bad.ok());
+  EXPECT_EQ(bad.status().message(), JournalPath(out) + ": line 4: expected 7 comma-separated fields, got 4");
+}
+
+TEST(ResultsJournalTest, OneRunAtATime) {
+  const std::string out = (testing::TempDir("journal_lock") / "r.csv").string();
+  auto first = ResultsJournal::Open(out, "abc", false);
+  ASSERT_TRUE(first.ok());
+  ASSERT_TRUE((*first)->Append({1, 1}, Rows(1, 1, {2})).ok());
+  for (const bool resume : {false, true}) {
+    auto second = ResultsJournal::Open(out, "abc", resume);
+    ASSERT_FALSE(second.ok());
+    EXPECT_EQ(second.status().message(),
+              JournalPath(out) + ": in use by another run writing " + out + " (wait for it or stop it)");
+  }
+  first->reset();  // the first run ends (killed): its image is there for the next
+  auto next = ResultsJournal::Open(out, "abc", true);
+  ASSERT_TRUE(next.ok()) << next.status().ToString();
+  EXPECT_EQ((*next)->kept_images(), 1);
+}
+
+TEST(ResultsJournalTest, FingerprintIsOptionsButThreadsDetectionsAndSource) {
+  const auto dir = testing::TempDir("journal_fingerprint");
+  std::filesystem::create_directories(dir / "data" / "models");
+  const RunSource source{(dir / "data").string(), "test", (dir / "data" / "models").string()};
   EstimatorOptions a, b;
   b.engine.threads = 7;
   std::vector<Detection> dets(1);
-  EXPECT_EQ(RunFingerprint(a, dets), RunFingerprint(b, dets));
+  const std::string base = RunFingerprint(a, dets, source);
+  EXPECT_EQ(base, RunFingerprint(b, dets, source));
   b.seed = 1;
-  EXPECT_NE(RunFingerprint(a, dets), RunFingerprint(b, dets));
+  EXPECT_NE(base, RunFingerprint(b, dets, source));
   std::vector<Detection> moved = dets;
   moved[0].x += 1e-9;
-  EXPECT_NE(RunFingerprint(a, dets), RunFingerprint(a, moved));
+  EXPECT_NE(base, RunFingerprint(a, moved, source));
+  // The same folders named another way are the same source; another folder, split or models
+  // folder is another.
+  RunSource same = source;
+  same.dataset_root = (dir / "data" / "models" / "..").string() + "/";
+  EXPECT_EQ(base, RunFingerprint(a, dets, same));
+  RunSource other_root = source, other_split = source, other_models = source;
+  other_root.dataset_root = dir.string();
+  other_split.split = "train";
+  other_models.models_dir = (dir / "data").string();
+  EXPECT_NE(base, RunFingerprint(a, dets, other_root));
+  EXPECT_NE(base, RunFingerprint(a, dets, other_split));
+  EXPECT_NE(base, RunFingerprint(a, dets, other_models));
 }
 
 }  // namespace

@@ -579,7 +579,9 @@ Status WriteYcbvMeta(const std::string& path, const YcbvMeta& meta) {
   }
   double factor = meta.factor_depth;
 
-  const std::string tmp = path + ".tmp";
+  // libmatio writes to a file of its own; its bytes then go to `path` through WriteFileAtomic,
+  // as every output (flushed to disk, renamed into place).
+  const std::string tmp = path + ".matio.tmp";
   mat_t* mat = Mat_CreateVer(tmp.c_str(), nullptr, MAT_FT_MAT5);
   if (!mat) return NotFound(tmp + ": cannot create MAT-file");
   struct Variable {
@@ -607,9 +609,10 @@ Status WriteYcbvMeta(const std::string& path, const YcbvMeta& meta) {
     fs::remove(tmp, ec);
     return Internal(path + ": MAT-file write failed");
   }
-  fs::rename(tmp, path, ec);
-  if (ec) return Internal(path + ": cannot rename " + tmp + " (" + ec.message() + ")");
-  return Status::Ok();
+  StatusOr<std::string> bytes = ReadFileToString(tmp);
+  fs::remove(tmp, ec);
+  if (!bytes.ok()) return bytes.status();
+  return WriteFileAtomic(path, *bytes);
 }
 
 StatusOr<std::vector<Eigen::Vector3f>> ReadXyzPoints(const std::string& path) {

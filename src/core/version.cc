@@ -1,0 +1,11 @@
+#include "mcpose/version.h"
+
+#ifndef MCPOSE_VERSION
+#error "MCPOSE_VERSION is set by CMakeLists.txt"
+#endif
+
+namespace mcpose {
+
+const char* Version() { return MCPOSE_VERSION; }
+
+}  // namespace mcpose
