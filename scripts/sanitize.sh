@@ -26,7 +26,8 @@ EXTRA_DEFINES=""
 ASAN_FLAGS="-fsanitize=address,undefined -fsanitize=float-cast-overflow -fno-sanitize-recover=all"
 TSAN_FLAGS="-fsanitize=thread"
 # The suites that run threads (tsan).
-THREADED_SUITES='^(ParallelFor|BoxScorer|Estimator|MotionModel|Tracker|Backends|RasterCores|CliThreads|CliTrack)\.'
+# (a parameterised suite's tests are named Prefix/Suite.Test/param).
+THREADED_SUITES='^([A-Za-z]+/)?(ParallelFor|BoxScorer|Estimator|MotionModel|Tracker|Backends|RasterCores|RasterCoresRealData|CliThreads|CliTrack)\.'
 # ci: the unit tests of the readers, the raster cores and the scoring kernels, and the
 # malformed-input tests over the CLI (asan runs every suite: filter, estimator, tracker,
 # backends, evaluation, report, capture, tools, real data). The SIMD kernels are compiled for

@@ -1,7 +1,7 @@
 #include "mcpose/version.h"
 
 #ifndef MCPOSE_VERSION
-#error "MCPOSE_VERSION is set by CMakeLists.txt"
+#error "MCPOSE_VERSION is set by CMakeLists.txt (and fuzz/CMakeLists.txt)"
 #endif
 
 namespace mcpose {
