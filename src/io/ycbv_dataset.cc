@@ -4,9 +4,9 @@
 #include <zlib.h>
 
 #include <algorithm>
-#include <cstring>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <exception>
 #include <filesystem>
 #include <map>
@@ -449,10 +449,6 @@ StatusOr<std::unique_ptr<Dataset>> OpenYcbv(const std::string& root, const std::
   return std::unique_ptr<Dataset>(
       new YcbvDataset(root, models_dir, std::move(names), std::move(frames), std::move(object_ids)));
 }
-
-}  // namespace
-
-namespace {
 
 // MAT5 data types of the element tags this check reads.
 constexpr uint32_t kMiInt32 = 5, kMiUint32 = 6, kMiMatrix = 14, kMiCompressed = 15;
