@@ -32,8 +32,17 @@ void AddEstimatorFlags(CLI::App* cmd, unsigned groups, EstimatorFlags* f) {
   }
   if (groups & kSearchFlags) {
     cmd->add_option("--init-sigma-t", o.init.sigma_t_m, "Initial translation jitter, metres")->capture_default_str();
+    cmd->add_option("--init-front-share", o.init.front_share,
+                    "Share of each box's samples whose turned model starts with its nearest point at "
+                    "--init-front-quantile of the box's valid depths; the rest start with the model's origin at "
+                    "--init-depth-quantile plus half its median side; [0, 1]")
+        ->capture_default_str();
+    cmd->add_option("--init-front-quantile", o.init.front_quantile,
+                    "Quantile of the box's valid depths where a front sample's nearest point starts")
+        ->capture_default_str();
     cmd->add_option("--init-depth-quantile", o.init.depth_quantile,
-                    "Quantile of the box's valid depths for the initial distance")->capture_default_str();
+                    "Quantile of the box's valid depths for the other samples and the level of detail")
+        ->capture_default_str();
     cmd->add_option("--keep-top", o.resample.keep_top_fraction, "Resample from this best fraction of samples, (0, 1]")
         ->capture_default_str();
     cmd->add_option("--cdf-table", o.resample.cdf_table_size, "Entries of the coarse CDF threshold table")

@@ -33,10 +33,21 @@ const char* RasterBackendName(RasterBackend backend);
 // drop culling clusters.
 bool IsFixedPoint(RasterBackend backend);
 
-// Step 1: N samples over the boxes in proportion to score. Translation: the ray through the
-// box centre at the `depth_quantile` of the box's valid observed depths plus half the object's
-// median side, jittered by sigma_t_m; rotation: uniform on SO(3).
+// Step 1: N samples over the boxes in proportion to score. Rotation: uniform on SO(3).
+// Translation: on the ray through the box centre, jittered by sigma_t_m, at one of two depths:
+// - front: the sample's turned model has its nearest point at the `front_quantile` of the box's
+//   valid observed depths (the object's front is among the nearest surfaces of its box);
+// - centre: the model's origin at the `depth_quantile` of those depths plus half the object's
+//   median side, the same for every turn.
+// Neither is right for every object: where a thin object covers less of its box than the table
+// behind it, the median depth is the table's and centre samples start behind the object; where
+// something nearer shares the box (the objects in a bowl, a mug's handle turned to the camera),
+// front samples start too near. `front_share` of each box's samples (every 1/front_share-th,
+// no random draw) start at the front depth, the rest at the centre depth.
+// `depth_quantile` also sets the depth at which the level of detail is chosen.
 struct InitOptions {
+  double front_share = 0.5;     // [0, 1]; 0: every sample at the centre depth
+  double front_quantile = 0.1;  // [0, 1]
   double depth_quantile = 0.5;  // [0, 1]
   double sigma_t_m = 0.01;      // >= 0, metres
 };

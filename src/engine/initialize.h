@@ -1,8 +1,9 @@
 // Step 1 of the filter: N samples over all boxes of one class, in proportion to score.
-// Translation: the ray through the box centre at the `init.depth_quantile` of the box's valid
-// observed depths plus half the object's median side (or, without valid depth, the distance
-// at which the object would fill the box), jittered by init.sigma_t_m; rotation: uniform on
-// SO(3). Sample i draws from its own random stream (seed, stream_id, init, i).
+// Rotation: uniform on SO(3). Translation, jittered by init.sigma_t_m, on the ray through the
+// box centre: for init.front_share of each box's samples, at the depth that puts the turned
+// model's nearest point at the `init.front_quantile` of the box's valid observed depths; for the
+// others, the model's origin at InitialDepth (options.h, InitOptions, says why both). Sample i
+// draws from its own random stream (seed, stream_id, init, i); the share draws nothing.
 #pragma once
 
 #include <cstdint>

@@ -44,6 +44,9 @@ bool EstimatorOptions::IsValid(std::string* error) const {
 
   if (!(init.depth_quantile >= 0 && init.depth_quantile <= 1))
     return Fail(error, "init.depth_quantile must lie in [0, 1]");
+  if (!(init.front_share >= 0 && init.front_share <= 1)) return Fail(error, "init.front_share must lie in [0, 1]");
+  if (!(init.front_quantile >= 0 && init.front_quantile <= 1))
+    return Fail(error, "init.front_quantile must lie in [0, 1]");
   if (!finite_nonnegative(init.sigma_t_m)) return Fail(error, "init.sigma_t_m must be finite and >= 0");
 
   if (!(std::isfinite(weight.eps_m) && weight.eps_m > 0)) return Fail(error, "weight.eps_m must be finite and > 0");

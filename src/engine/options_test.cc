@@ -45,6 +45,8 @@ TEST(EstimatorOptions, EachInvalidFieldIsNamed) {
       {[](EstimatorOptions& o) { o.engine.backend = RasterBackend::kFloatSimd, o.engine.cluster_culling = false; },
        "engine.batched_setup"},
       {[](EstimatorOptions& o) { o.init.depth_quantile = 2; }, "init.depth_quantile"},
+      {[](EstimatorOptions& o) { o.init.front_quantile = -0.1; }, "init.front_quantile"},
+      {[](EstimatorOptions& o) { o.init.front_share = NAN; }, "init.front_share"},
       {[](EstimatorOptions& o) { o.engine.threads = -1; }, "threads"},
       {[](EstimatorOptions& o) { o.tau = INFINITY; }, "tau"},
   };

@@ -128,6 +128,14 @@ std::unique_ptr<Tracker> MakeTracker(const TrackerOptions& o) {
 
 double TranslationError(const SE3& a, const SE3& b) { return (a.t - b.t).norm(); }
 
+// The rotation error, degrees, up to the blob's symmetry: turned 180 degrees about its y axis it
+// is the same surface (its radius depends on sin 3 phi sin theta, which (phi, theta) -> (pi - phi,
+// pi - theta) keeps), so depth cannot tell the two apart.
+double BlobRotationErrorDeg(const Eigen::Matrix3d& R, const Eigen::Matrix3d& R_gt) {
+  const Eigen::Matrix3d turned = R_gt * Eigen::Vector3d(-1, 1, -1).asDiagonal();
+  return std::min(RotationAngle(R, R_gt), RotationAngle(R, turned)) * 180 / M_PI;
+}
+
 TEST(Tracker, FollowsAMovingObjectWithoutBoxesAfterTheFirstFrame) {
   const Video v = MakeVideo(6);
   auto tracker = MakeTracker(Options(2));
@@ -141,7 +149,7 @@ TEST(Tracker, FollowsAMovingObjectWithoutBoxesAfterTheFirstFrame) {
     EXPECT_GT(step->fit, 0.9) << "frame " << f;
     EXPECT_GT(step->visible, 0.99) << "frame " << f;
     EXPECT_LT(TranslationError(step->T_cam_obj, v.T_gt[f]), 0.003) << "frame " << f;
-    EXPECT_LT(RotationAngle(step->T_cam_obj.R, v.T_gt[f].R) * 180 / M_PI, 3.0) << "frame " << f;
+    EXPECT_LT(BlobRotationErrorDeg(step->T_cam_obj.R, v.T_gt[f].R), 3.0) << "frame " << f;
   }
 }
 
@@ -154,7 +162,13 @@ TEST(Tracker, AnObjectMovedOutOfItsBoxIsLostAndReinitialised) {
     v.T_gt[f] = SE3(v.T_gt[f].R, v.T_gt[f].t + Eigen::Vector3d(0.12, 0.0, 0.0));
     v.frames[f] = Render(v.mesh, v.T_gt[f], 100 + static_cast<uint64_t>(f));
   }
-  auto tracker = MakeTracker(Options(2));
+  // The estimator's own sample count and iterations: a restart is a single-frame estimate, and
+  // with the 300 samples and 30 iterations of the other tests 11 of 40 seeds' restarts of frame 3
+  // end in a local optimum (6 of 40 with 620 and 50).
+  TrackerOptions o = Options(2);
+  o.estimator.samples = EstimatorOptions{}.samples;
+  o.estimator.max_iterations = EstimatorOptions{}.max_iterations;
+  auto tracker = MakeTracker(o);
   for (int f = 0; f < 5; ++f) {
     const Detection box = BoxOf(v.frames[f]);
     auto step = tracker->Track(v.frames[f].K, v.frames[f].depth, nullptr, v.mesh, 1, std::span(&box, 1), 2000 + f);
@@ -162,6 +176,7 @@ TEST(Tracker, AnObjectMovedOutOfItsBoxIsLostAndReinitialised) {
     EXPECT_EQ(step->lost, f == 3) << "frame " << f;
     EXPECT_EQ(step->initialised, f == 0 || f == 3) << "frame " << f;
     EXPECT_LT(TranslationError(step->T_cam_obj, v.T_gt[f]), 0.003) << "frame " << f;
+    EXPECT_LT(BlobRotationErrorDeg(step->T_cam_obj.R, v.T_gt[f].R), 3.0) << "frame " << f;
     if (f == 3) {
       EXPECT_EQ(step->box.x, box.x) << "started again from the frame's box";
     }

@@ -1,0 +1,132 @@
+#include "engine/initialize.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "engine/box_scorer.h"
+#include "engine/context.h"
+#include "synthetic_mesh.h"
+
+namespace mcpose::engine {
+namespace {
+
+// A 320 x 240 frame whose box [100, 60, 120, 100] sees a thin near surface at 0.6 m on its
+// left fifth and a background at 0.9 m elsewhere; a slab 12 x 4 x 2 cm whose origin is not its
+// centre.
+struct Scene {
+  Intrinsics K{600, 600, 160, 120, 320, 240};
+  DepthImage depth;
+  Mesh mesh;
+  Detection box{1, 1, 5, 0.9, 100, 60, 120, 100};
+};
+
+Scene MakeScene(float near_m = 0.6f, float far_m = 0.9f) {
+  Scene s;
+  s.depth.width = 320, s.depth.height = 240;
+  s.depth.depth_m.assign(320 * 240, far_m);
+  for (int y = 60; y < 160; ++y)
+    for (int x = 100; x < 124; ++x) s.depth.depth_m[static_cast<size_t>(y) * 320 + x] = near_m;
+  testing::AddBox(&s.mesh, Eigen::Vector3f(0.01f, -0.02f, 0.03f), Eigen::Vector3f(0.13f, 0.02f, 0.05f));
+  return s;
+}
+
+filter::ParticleSet Initialize(const Scene& s, const EstimatorOptions& o) {
+  Context context(o);
+  const std::vector<Detection> boxes = {s.box};
+  auto scorer = BoxScorer::Create(context, s.K, s.depth, s.mesh, boxes);
+  EXPECT_TRUE(scorer.ok()) << scorer.status().ToString();
+  filter::ParticleSet p;
+  InitializeSamples(**scorer, o, 7, &p);
+  return p;
+}
+
+EstimatorOptions NoJitter() {
+  EstimatorOptions o;
+  o.samples = 200;
+  o.init.sigma_t_m = 0;
+  return o;
+}
+
+// The ray through the box centre, z = 1.
+Eigen::Vector3d BoxRay(const Scene& s) {
+  return {(s.box.x + 0.5 * s.box.w - s.K.cx) / s.K.fx, (s.box.y + 0.5 * s.box.h - s.K.cy) / s.K.fy, 1.0};
+}
+
+TEST(InitializeSamples, FrontSamplesHaveTheirTurnedModelsNearestPointAtTheQuantile) {
+  const Scene s = MakeScene();
+  EstimatorOptions o = NoJitter();
+  o.init.front_share = 1;
+  o.init.front_quantile = 0.1;  // within the near fifth of the box
+  const filter::ParticleSet p = Initialize(s, o);
+  const Eigen::Vector3d ray = BoxRay(s);
+  const Eigen::Vector3d centre = 0.5 * (s.mesh.BoundsMin() + s.mesh.BoundsMax()).cast<double>();
+  double min_depth = INFINITY, max_depth = 0;
+  for (size_t i = 0; i < p.size(); ++i) {
+    double nearest = INFINITY;
+    for (const Eigen::Vector3f& v : s.mesh.vertices_m)
+      nearest = std::min(nearest, (p.R_cam_obj[i] * v.cast<double>() + p.t_cam_obj_m[i]).z());
+    EXPECT_NEAR(nearest, 0.6, 1e-6) << "sample " << i;
+    // The model's bounding-box centre lies on the box's ray.
+    const Eigen::Vector3d c = p.R_cam_obj[i] * centre + p.t_cam_obj_m[i];
+    EXPECT_NEAR((c / c.z() - ray).norm(), 0.0, 1e-9) << "sample " << i;
+    min_depth = std::min(min_depth, c.z()), max_depth = std::max(max_depth, c.z());
+  }
+  // Each turn sits at its own depth: end on (6 cm behind the front) or face on (1 cm).
+  EXPECT_LT(min_depth, 0.6 + 0.015);
+  EXPECT_GT(max_depth, 0.6 + 0.05);
+}
+
+TEST(InitializeSamples, CentreSamplesStartAtOneDepthBehindTheQuantileWhateverTheTurn) {
+  const Scene s = MakeScene();
+  EstimatorOptions o = NoJitter();
+  o.init.front_share = 0;
+  o.init.depth_quantile = 0.5;  // the background
+  const filter::ParticleSet p = Initialize(s, o);
+  // The origin at the median depth (0.9 m) plus half the median side (4 cm).
+  const Eigen::Vector3d expected = BoxRay(s) * (0.9 + 0.02);
+  for (size_t i = 0; i < p.size(); ++i) EXPECT_NEAR((p.t_cam_obj_m[i] - expected).norm(), 0.0, 1e-6) << i;
+}
+
+TEST(InitializeSamples, WithoutValidDepthEverySampleStartsWhereTheObjectFillsTheBox) {
+  Scene s = MakeScene();
+  std::fill(s.depth.depth_m.begin(), s.depth.depth_m.end(), 0.f);
+  EstimatorOptions o = NoJitter();
+  o.init.front_share = 1;
+  const filter::ParticleSet front = Initialize(s, o);
+  o.init.front_share = 0;
+  const filter::ParticleSet centre = Initialize(s, o);
+  ASSERT_EQ(front.size(), centre.size());
+  for (size_t i = 0; i < front.size(); ++i) {
+    EXPECT_EQ(front.t_cam_obj_m[i], centre.t_cam_obj_m[i]);
+    EXPECT_EQ(front.R_cam_obj[i], centre.R_cam_obj[i]);
+  }
+  EXPECT_GT(front.t_cam_obj_m[0].z(), 0.1);
+}
+
+TEST(InitializeSamples, FrontShareSplitsEachBoxsSamplesWithoutChangingTheirDraws) {
+  const Scene s = MakeScene();
+  EstimatorOptions o = NoJitter();
+  o.init.sigma_t_m = 0.01;  // the jitter's draws must not move either
+  o.init.front_share = 1;
+  const filter::ParticleSet front = Initialize(s, o);
+  o.init.front_share = 0;
+  const filter::ParticleSet centre = Initialize(s, o);
+  o.init.front_share = 0.5;  // the default
+  ASSERT_EQ(o.init.front_share, EstimatorOptions{}.init.front_share);
+  const filter::ParticleSet half = Initialize(s, o);
+  for (size_t i = 0; i < half.size(); ++i) {
+    EXPECT_EQ(half.R_cam_obj[i], centre.R_cam_obj[i]);
+    EXPECT_EQ(half.t_cam_obj_m[i], (i % 2 == 1 ? front : centre).t_cam_obj_m[i]) << i;
+  }
+  o.init.front_share = 0.25;
+  const filter::ParticleSet quarter = Initialize(s, o);
+  int at_front = 0;
+  for (size_t i = 0; i < quarter.size(); ++i) at_front += quarter.t_cam_obj_m[i] == front.t_cam_obj_m[i];
+  EXPECT_EQ(at_front, 50);
+}
+
+}  // namespace
+}  // namespace mcpose::engine
