@@ -592,7 +592,7 @@ TEST(CliColour, AppearanceOffIsDepthOnlyExactly) {
   const nlohmann::json doc = nlohmann::json::parse(ReadText(dir / "on.json"));
   EXPECT_TRUE(doc["objects"][0]["colour"].get<bool>());
   EXPECT_TRUE(doc["objects"][0]["twins"]["ran"].get<bool>());
-  EXPECT_EQ(doc["objects"][0]["twins"]["candidates"].get<int>(), 48);
+  EXPECT_EQ(doc["objects"][0]["twins"]["candidates"].get<int>(), 24);  // 12 turns of 30 degrees, and the same after a flip
   EXPECT_FALSE(doc["objects"][1]["colour"].get<bool>());
   EXPECT_FALSE(doc["objects"][1]["twins"]["ran"].get<bool>());
   EXPECT_TRUE(doc["objects"][1]["refine"]["ran"].get<bool>());

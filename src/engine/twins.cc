@@ -1,5 +1,6 @@
 #include "engine/twins.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <numbers>
@@ -39,6 +40,7 @@ std::vector<SE3> TwinCandidates(const SE3& T, const Mesh& mesh, double step_deg)
   const int axis = DistinctAxis(mesh);
   const int steps = static_cast<int>(std::lround(360.0 / step_deg));
   std::vector<SE3> out;
+  std::vector<Eigen::Matrix3d> turns;
   for (int f = -1; f < 3; ++f) {
     Eigen::Vector3d d(1, 1, 1);
     if (f >= 0) d = Eigen::Vector3d(-1, -1, -1), d[f] = 1;
@@ -48,6 +50,14 @@ std::vector<SE3> TwinCandidates(const SE3& T, const Mesh& mesh, double step_deg)
           Eigen::AngleAxisd(k * step_deg * std::numbers::pi / 180, Eigen::Vector3d::Unit(axis)).toRotationMatrix();
       // X -> S F (X - c) + c in the model frame, then T.
       const Eigen::Matrix3d M = S * F;
+      // A flip about the distinct axis is a half turn about it, and a flip about a third axis
+      // a flip about the second turned half round: with a step that divides 180 degrees, two of
+      // the four families repeat the other two. Each turn is kept once.
+      const bool repeated = std::any_of(turns.begin(), turns.end(), [&](const Eigen::Matrix3d& m) {
+        return (m - M).cwiseAbs().maxCoeff() < 1e-9;
+      });
+      if (repeated) continue;
+      turns.push_back(M);
       out.emplace_back(T.R * M, T.R * (c - M * c) + T.t);
     }
   }

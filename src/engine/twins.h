@@ -17,7 +17,8 @@ int DistinctAxis(const Mesh& mesh);
 
 // The twin candidates of pose T: T turned about the mesh's bounding-box centre by F then by
 // k * step_deg about DistinctAxis (k = 0 .. 360 / step_deg - 1), for F the identity and the
-// 180-degree turns about model x, y and z. Candidate 0 is T itself.
+// 180-degree turns about model x, y and z, each turn once (with a step that divides 180 degrees,
+// 2 * 360 / step_deg of them). Candidate 0 is T itself.
 std::vector<SE3> TwinCandidates(const SE3& T, const Mesh& mesh, double step_deg);
 
 // Resolves the twins of `filtered` (the filter's answer of `scorer`, whose weight has its colour

@@ -22,13 +22,16 @@ inline double Weight(const InlierCounts& n, double score, const WeightOptions& w
 }
 
 // The colour agreement the weight uses: ColourAgreement of the depth inliers drawn towards
-// neutral by the share of the rendered object hidden behind observed surfaces,
-// A' = 0.5 + (A - 0.5) (1 - occluded / rendered). The depth terms excuse hidden pixels (an
-// object partly behind another is not punished for it); without this, a pose sunk into the
-// table, its few visible pixels matching well, could outweigh the object in plain view.
+// neutral by the share of the rendered object whose depth does not agree,
+// A' = 0.5 + (A - 0.5) N / N_r: colour speaks for a pose only as far as its depth does. The
+// depth terms excuse hidden pixels (an object partly behind another is not punished for it);
+// without the pull, a pose sunk into the table, its few visible pixels matching well, could
+// outweigh the object in plain view, and a pose floating in front of the observed surface (a
+// bowl turned upside down above the real one, whose rendered dome hides nothing) could outweigh
+// the real bowl half hidden by what lies in it.
 inline double VisibleColourAgreement(const InlierCounts& n, int min_pixels) {
   const double a = ColourAgreement(n.colour, min_pixels);
-  const double visible = n.rendered > 0 ? 1.0 - static_cast<double>(n.occluded) / n.rendered : 0.0;
+  const double visible = n.rendered > 0 ? static_cast<double>(n.inliers) / n.rendered : 0.0;
   return kNeutralAgreement + (a - kNeutralAgreement) * visible;
 }
 
