@@ -75,6 +75,10 @@ void AddEstimatorFlags(CLI::App* cmd, unsigned groups, EstimatorFlags* f) {
     cmd->add_flag("--resolve-twins,!--no-resolve-twins", o.appearance.resolve_twins,
                   "After the filter, score the best pose's depth twins on every pixel with colour and refine the best "
                   "(default on)");
+    cmd->add_option("--twin-depth-margin", o.appearance.twin_depth_margin,
+                    "Twin candidates within this of the best depth weight are told apart by colour alone; 0: by "
+                    "the whole weight")
+        ->capture_default_str();
     cmd->add_option("--twin-step", o.appearance.twin_step_deg,
                     "Twin candidates: turns about the model's most distinct axis in these steps, degrees")
         ->capture_default_str();

@@ -156,6 +156,10 @@ struct AppearanceOptions {
   bool resolve_twins = true;
   double twin_step_deg = 30;     // divides 360; 180 = the flips alone
   int twin_refine_iterations = 10;
+  // Among the candidates whose depth weight (the weight without its colour term) lies within
+  // this of the best candidate's, the one whose colour agrees best wins: depth cannot tell
+  // those apart, so colour decides alone. 0: the candidate of the highest whole weight.
+  double twin_depth_margin = 0.0;
 };
 
 // Refinement: after the filter (and twin resolution), the pose is aligned to the observed depth

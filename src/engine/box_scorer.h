@@ -73,6 +73,8 @@ class BoxScorer {
   // engine's counters to *counters.
   void Count(const filter::ParticleSet& particles, std::span<score::InlierCounts> counts, EngineCounters* counters);
   void Weigh(filter::ParticleSet* particles, EngineCounters* counters, double colour_weight = -1);
+  // The counts of the particles of the last Weigh, in their order.
+  std::span<const score::InlierCounts> last_counts() const { return counts_; }
 
  private:
   explicit BoxScorer(Context& context) : context_(&context) {}

@@ -79,6 +79,8 @@ bool EstimatorOptions::IsValid(std::string* error) const {
       return Fail(error, "appearance.twin_step_deg must divide 360 and lie in [1, 180]");
   }
   if (appearance.twin_refine_iterations < 0) return Fail(error, "appearance.twin_refine_iterations must be >= 0");
+  if (!(appearance.twin_depth_margin >= 0 && appearance.twin_depth_margin <= 1))
+    return Fail(error, "appearance.twin_depth_margin must lie in [0, 1]");
 
   if (refine.max_iterations < 0 || refine.twin_iterations < 0)
     return Fail(error, "refine.max_iterations and refine.twin_iterations must be >= 0");

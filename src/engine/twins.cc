@@ -12,6 +12,7 @@
 #include "filter/diffuse.h"
 #include "engine/filter_loop.h"
 #include "engine/refinement.h"
+#include "score/weight.h"
 
 namespace mcpose::engine {
 
@@ -104,6 +105,21 @@ ObjectEstimate ResolveTwins(Context& context, BoxScorer& scorer, BoxScorer& full
   size_t winner = 0;
   for (size_t i = 1; i < poses.size(); ++i)
     if (poses.weight[i] > poses.weight[winner]) winner = i;  // ties: the earlier candidate
+  if (a.twin_depth_margin > 0) {
+    const std::span<const score::InlierCounts> counts = full.last_counts();
+    std::vector<double> depth_weight(poses.size());
+    double best_depth = -1;
+    for (size_t i = 0; i < poses.size(); ++i) {
+      depth_weight[i] = score::Weight(counts[i], full.box_observation(0).score, opt.weight);
+      best_depth = std::max(best_depth, depth_weight[i]);
+    }
+    double best_colour = -1;
+    for (size_t i = 0; i < poses.size(); ++i) {
+      if (depth_weight[i] < best_depth - a.twin_depth_margin) continue;
+      const double colour = score::VisibleColourAgreement(counts[i], a.min_pixels);
+      if (colour > best_colour) best_colour = colour, winner = i;
+    }
+  }
   double runner_up = -1;
   for (size_t i = 0; i < poses.size(); ++i)
     if (i != winner) runner_up = std::max(runner_up, poses.weight[i]);
