@@ -28,8 +28,8 @@ double DepthQuantile(const std::vector<float>& observed, double q) {
   return valid[k];
 }
 
-// The depth along the ray (1 at z = 1) at which each turned model's nearest point sits at
-// `z_front`: the model's vertices (at most kMaxVertices of them, evenly strided) about their
+// Places a turned model on the ray through its box centre with its nearest point at a given
+// depth, from the model's vertices (at most kMaxVertices of them, evenly strided) about their
 // bounding-box centre.
 class FrontPlacer {
  public:
@@ -39,8 +39,8 @@ class FrontPlacer {
     for (size_t v = 0; v < n; v += stride) offsets_.push_back(mesh.vertices_m[v].cast<double>() - centre_);
   }
 
-  // The translation that puts `R`'s model centre on `ray` (z = 1) with its nearest vertex at
-  // depth z_front.
+  // The translation that puts the bounding-box centre of the model turned by `R` on `ray` (its
+  // z component 1) with its nearest vertex at depth z_front.
   Eigen::Vector3d Translation(const Eigen::Matrix3d& R, const Eigen::Vector3d& ray, double z_front) const {
     const Eigen::RowVector3d view_row = R.row(2);
     double nearest = 0;
