@@ -100,6 +100,9 @@ void AddEstimatorFlags(CLI::App* cmd, unsigned groups, EstimatorFlags* f) {
         ->capture_default_str();
     cmd->add_option("--refine-twin-iterations", o.refine.twin_iterations,
                     "Alignment steps for each twin candidate")->capture_default_str();
+    cmd->add_option("--refine-accept-eps", o.refine.accept_eps_m,
+                    "Inlier threshold (m) of the weight that decides whether the aligned pose is kept; 0: --eps")
+        ->capture_default_str();
   }
   if (groups & kEngineFlags) {
     cmd->add_option("--engine", f->engine,

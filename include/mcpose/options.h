@@ -164,14 +164,19 @@ struct AppearanceOptions {
 
 // Refinement: after the filter (and twin resolution), the pose is aligned to the observed depth
 // in its box by projective point-to-plane steps with a robust loss (refine/align.h), and kept
-// only if that does not lower its full-resolution weight. Twin resolution aligns each of its
-// candidates the same way before comparing them.
+// only if that does not lower its full-resolution weight, the weight's inliers counted within
+// accept_eps_m. Twin resolution aligns each of its candidates the same way before comparing them.
 struct RefineOptions {
   bool enabled = true;           // false: the filter's answer as it is
   int max_iterations = 20;       // Gauss-Newton steps
   int twin_iterations = 8;       // steps for each twin candidate
   double tukey_m = 0.006;        // robust loss scale, metres
   double max_distance_m = 0.02;  // model and observed points farther apart are not paired
+  // The inlier threshold of the weight that judges the aligned pose against the filter's, metres;
+  // 0: the filter's own (weight.eps_m). Within the filter's centimetre two poses a few millimetres
+  // apart differ only by the pixels at the object's outline, where the sensor's depth is least
+  // sure; at a few millimetres every pixel of the surface tells them apart.
+  double accept_eps_m = 0.004;
 };
 
 struct EstimatorOptions {

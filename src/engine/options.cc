@@ -87,6 +87,8 @@ bool EstimatorOptions::IsValid(std::string* error) const {
   if (!(std::isfinite(refine.tukey_m) && refine.tukey_m > 0)) return Fail(error, "refine.tukey_m must be > 0");
   if (!(std::isfinite(refine.max_distance_m) && refine.max_distance_m > 0))
     return Fail(error, "refine.max_distance_m must be > 0");
+  if (!(std::isfinite(refine.accept_eps_m) && refine.accept_eps_m >= 0))
+    return Fail(error, "refine.accept_eps_m must be >= 0 (0: weight.eps_m)");
 
   if (!finite_nonnegative(engine.lod_error_px))
     return Fail(error, "engine.lod_error_px must be finite and >= 0 (0 = full mesh)");

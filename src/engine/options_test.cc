@@ -48,6 +48,8 @@ TEST(EstimatorOptions, EachInvalidFieldIsNamed) {
       {[](EstimatorOptions& o) { o.init.front_quantile = -0.1; }, "init.front_quantile"},
       {[](EstimatorOptions& o) { o.init.front_share = NAN; }, "init.front_share"},
       {[](EstimatorOptions& o) { o.appearance.twin_depth_margin = -0.01; }, "appearance.twin_depth_margin"},
+      {[](EstimatorOptions& o) { o.refine.accept_eps_m = -0.001; }, "refine.accept_eps_m"},
+      {[](EstimatorOptions& o) { o.refine.accept_eps_m = NAN; }, "refine.accept_eps_m"},
       {[](EstimatorOptions& o) { o.engine.threads = -1; }, "threads"},
       {[](EstimatorOptions& o) { o.tau = INFINITY; }, "tau"},
   };

@@ -64,8 +64,9 @@ TEST(Refinement, APerturbedPoseIsAlignedAndAccepted) {
 }
 
 // The colour image shifted 8 pixels against the depth: the pose whose colour fits best lies off
-// the depth's best pose. Weighed mostly by colour, alignment to the depth would lower the weight
-// of that pose, so it is rejected and the pose kept as it was.
+// the depth's best pose. Weighed mostly by colour, with the filter's centimetre as the inlier
+// threshold (within which the shifted pose still has most of its depth), alignment to the depth
+// would lower the weight of that pose, so it is rejected and the pose kept as it was.
 TEST(Refinement, AnAlignmentThatLowersTheWeightIsRejected) {
   Scene s = MakeScene();
   ColourImage shifted = s.frame.colour;
@@ -76,6 +77,7 @@ TEST(Refinement, AnAlignmentThatLowersTheWeightIsRejected) {
   EstimatorOptions o;
   o.engine.threads = 1;
   o.appearance.weight = 0.9;
+  o.refine.accept_eps_m = 0;
   Context context(o);
   auto full = FullScorer(context, s, &shifted);
   ASSERT_TRUE(full->uses_colour());
@@ -88,6 +90,32 @@ TEST(Refinement, AnAlignmentThatLowersTheWeightIsRejected) {
   EXPECT_EQ(r.refine.weight_after, r.refine.weight_before);
   EXPECT_EQ(r.T_cam_obj.t, e.T_cam_obj.t);
   EXPECT_EQ(r.T_cam_obj.R, e.T_cam_obj.R);
+}
+
+// The pose is judged by the weight with its inliers counted within accept_eps_m; the scorer's
+// own threshold is what it was afterwards. A start 3 mm behind the surface has every pixel
+// within the filter's centimetre, but none within 2 mm: weighed at 2 mm, the aligned pose must
+// gain, and the weight reported is the one at that threshold.
+TEST(Refinement, IsJudgedAtItsOwnInlierThreshold) {
+  const Scene s = MakeScene();
+  EstimatorOptions o;
+  o.engine.threads = 1;
+  o.refine.accept_eps_m = 0.002;
+  Context context(o);
+  auto full = FullScorer(context, s, nullptr);
+  ObjectEstimate e;
+  e.T_cam_obj = SE3(s.T_gt.R, s.T_gt.t + 0.003 * s.T_gt.t.normalized());
+  const ObjectEstimate r = RefineEstimate(o.refine, *full, s.frame.depth, e);
+  EXPECT_FLOAT_EQ(full->inlier_threshold(), static_cast<float>(o.weight.eps_m));
+  EXPECT_TRUE(r.refine.accepted);
+  EXPECT_LT(r.refine.weight_before, 0.5 * r.refine.weight_after);
+  EXPECT_LT((r.T_cam_obj.t - s.T_gt.t).norm(), 0.001);
+
+  // The same start weighed at the filter's threshold (accept_eps_m 0) already has nearly all its
+  // pixels as inliers.
+  o.refine.accept_eps_m = 0;
+  const ObjectEstimate at_filter_eps = RefineEstimate(o.refine, *full, s.frame.depth, e);
+  EXPECT_GT(at_filter_eps.refine.weight_before, 2 * r.refine.weight_before);
 }
 
 }  // namespace
