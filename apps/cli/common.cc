@@ -29,6 +29,10 @@ void AddEstimatorFlags(CLI::App* cmd, unsigned groups, EstimatorFlags* f) {
     cmd->add_option("--weights", f->weights, help)->expected(3);
     cmd->add_flag("--occlusion-aware,!--no-occlusion-aware", o.weight.occlusion_aware,
                   "Leave rendered pixels hidden behind observed surfaces out of N_r (default on; off: the paper's N_r)");
+    cmd->add_option("--box-fit", o.weight.box_fit,
+                    "A sample whose projected object lies less than this share inside its box has its weight scaled "
+                    "by share / box-fit; 0: off (the paper's weight)")
+        ->capture_default_str();
   }
   if (groups & kSearchFlags) {
     cmd->add_option("--init-sigma-t", o.init.sigma_t_m, "Initial translation jitter, metres")->capture_default_str();

@@ -65,6 +65,12 @@ struct WeightOptions {
   // Leave rendered pixels behind an observed surface (occluded by something else) out of N_r,
   // so that a partly hidden object is not punished for what hides it. false: the paper's N_r.
   bool occlusion_aware = true;
+  // Box fit (score/box_fit.h): a sample whose projected object (the bounding rectangle of the
+  // model's extreme points) lies less than this share inside its box has its weight scaled by
+  // share / box_fit. The detector boxes what it saw, so an object reaching far past its box is
+  // unlikely: with jittered boxes the truth keeps at least about 0.8 inside. [0, 1]; 0: off,
+  // the paper's weight.
+  double box_fit = 0.8;
 };
 
 // Step 4: sorted-index resampling with a coarse CDF table.

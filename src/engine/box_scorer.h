@@ -20,6 +20,7 @@
 #include "mcpose/mesh.h"
 #include "mcpose/status.h"
 #include "render/lod.h"
+#include "score/box_fit.h"
 #include "score/box_observation.h"
 
 namespace mcpose::engine {
@@ -94,6 +95,8 @@ class BoxScorer {
   std::shared_ptr<const appearance::ColourGrid> colour_;
   score::ColourLookup colour_lookup_;
   std::vector<score::InlierCounts> counts_;  // Weigh's
+  std::vector<Eigen::Vector3d> extremes_;    // the mesh's extreme points (score/box_fit.h)
+  std::vector<score::FitBox> fit_boxes_;     // each box, for the box fit
 };
 
 }  // namespace mcpose::engine

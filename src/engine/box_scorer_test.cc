@@ -7,6 +7,7 @@
 
 #include "core/rng.h"
 #include "engine/initialize.h"
+#include "score/box_fit.h"
 #include "score/weight.h"
 #include "synthetic_mesh.h"
 
@@ -57,24 +58,39 @@ TEST(BoxScorer, PreparesEachBoxAsTheOptionsSay) {
   EXPECT_LT(b.depth_pixels_read(), small + large);
 }
 
-TEST(BoxScorer, WeighGivesEachSampleTheWeightOfItsCounts) {
+// The weight of the counts, times the box-fit factor of the pose (score/box_fit.h); with the
+// box fit off, the weight of the counts alone. The box is smaller than the blob at the
+// samples' depths, so some samples are scaled down.
+TEST(BoxScorer, WeighGivesEachSampleTheWeightOfItsCountsAndBoxFit) {
   const Scene s = MakeScene();
-  EstimatorOptions o;
-  o.samples = 64;
-  Context context(o);
-  const std::vector<Detection> boxes = {Detection{1, 1, 5, 0.8, 110, 70, 100, 100}};
-  auto scorer = BoxScorer::Create(context, s.K, s.depth, s.mesh, boxes);
-  ASSERT_TRUE(scorer.ok());
-  filter::ParticleSet p;
-  InitializeSamples(**scorer, o, 3, &p);
-  std::vector<score::InlierCounts> counts(p.size());
-  EngineCounters c1, c2;
-  (*scorer)->Count(p, counts, &c1);
-  (*scorer)->Weigh(&p, &c2);
-  for (size_t i = 0; i < p.size(); ++i) EXPECT_EQ(p.weight[i], score::Weight(counts[i], 0.8, o.weight));
-  EXPECT_EQ(c1.fragments, c2.fragments);
-  EXPECT_GT(c1.fragments, 0);
-  EXPECT_EQ(c1.triangles_full, static_cast<int64_t>(s.mesh.triangles.size()) * o.samples);
+  const Detection box{1, 1, 5, 0.8, 130, 90, 60, 60};
+  const std::vector<Eigen::Vector3d> extremes = score::ExtremePoints(s.mesh);
+  for (const double box_fit : {0.8, 0.0}) {
+    SCOPED_TRACE(box_fit);
+    EstimatorOptions o;
+    o.samples = 64;
+    o.weight.box_fit = box_fit;
+    Context context(o);
+    auto scorer = BoxScorer::Create(context, s.K, s.depth, s.mesh, std::span(&box, 1));
+    ASSERT_TRUE(scorer.ok());
+    filter::ParticleSet p;
+    InitializeSamples(**scorer, o, 3, &p);
+    std::vector<score::InlierCounts> counts(p.size());
+    EngineCounters c1, c2;
+    (*scorer)->Count(p, counts, &c1);
+    (*scorer)->Weigh(&p, &c2);
+    int scaled = 0;
+    for (size_t i = 0; i < p.size(); ++i) {
+      const double share = score::BoxFitShare(extremes, p.R_cam_obj[i], p.t_cam_obj_m[i], s.K, score::FitBoxOf(box, s.K));
+      const double factor = score::BoxFitFactor(share, box_fit);
+      scaled += factor < 1;
+      EXPECT_EQ(p.weight[i], score::Weight(counts[i], 0.8, o.weight) * factor);
+    }
+    if (box_fit > 0) EXPECT_GT(scaled, 0);
+    EXPECT_EQ(c1.fragments, c2.fragments);
+    EXPECT_GT(c1.fragments, 0);
+    EXPECT_EQ(c1.triangles_full, static_cast<int64_t>(s.mesh.triangles.size()) * o.samples);
+  }
 }
 
 TEST(BoxScorer, RejectsBadInputNamingTheBox) {

@@ -50,6 +50,7 @@ bool EstimatorOptions::IsValid(std::string* error) const {
   if (!finite_nonnegative(init.sigma_t_m)) return Fail(error, "init.sigma_t_m must be finite and >= 0");
 
   if (!(std::isfinite(weight.eps_m) && weight.eps_m > 0)) return Fail(error, "weight.eps_m must be finite and > 0");
+  if (!(weight.box_fit >= 0 && weight.box_fit <= 1)) return Fail(error, "weight.box_fit must lie in [0, 1]");
   for (double w : {weight.a, weight.b, weight.c})
     if (!finite_nonnegative(w)) return Fail(error, "weights a, b, c must be finite and >= 0");
   if (std::fabs(weight.a + weight.b + weight.c - 1.0) > 1e-6) {

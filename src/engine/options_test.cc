@@ -27,6 +27,8 @@ TEST(EstimatorOptions, EachInvalidFieldIsNamed) {
       {[](EstimatorOptions& o) { o.weight.eps_m = 0; }, "eps_m"},
       {[](EstimatorOptions& o) { o.weight.eps_m = NAN; }, "eps_m"},
       {[](EstimatorOptions& o) { o.weight.a = 0.9; }, "sum to 1"},
+      {[](EstimatorOptions& o) { o.weight.box_fit = 1.5; }, "weight.box_fit"},
+      {[](EstimatorOptions& o) { o.weight.box_fit = NAN; }, "weight.box_fit"},
       {[](EstimatorOptions& o) { o.weight.c = -0.1, o.weight.a = 0.65; }, "weights"},
       {[](EstimatorOptions& o) { o.resample.keep_top_fraction = 0; }, "keep_top_fraction"},
       {[](EstimatorOptions& o) { o.engine.pixel_stride = 0; }, "pixel_stride"},
