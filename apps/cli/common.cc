@@ -31,7 +31,7 @@ void AddEstimatorFlags(CLI::App* cmd, unsigned groups, EstimatorFlags* f) {
                   "Leave rendered pixels hidden behind observed surfaces out of N_r (default on; off: the paper's N_r)");
     cmd->add_option("--box-fit", o.weight.box_fit,
                     "A sample whose projected object lies less than this share inside its box has its weight scaled "
-                    "by share / box-fit; 0: off (the paper's weight)")
+                    "by share / box-fit; 0: off")
         ->capture_default_str();
   }
   if (groups & kSearchFlags) {
