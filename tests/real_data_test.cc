@@ -228,7 +228,9 @@ TEST(RealData, BoxFitKeepsTheTunaCanOutOfADistractorBoxOnAFlatSurface) {
     ASSERT_NE(tuna, eval->instances.end());
     ASSERT_TRUE(tuna->has_result);
     std::printf("  box fit %.1f: ADD-S %.1f mm\n", box_fit, 1000 * tuna->adds_m);
-    if (box_fit > 0) EXPECT_LT(tuna->adds_m, 0.01);
+    if (box_fit > 0) {
+      EXPECT_LT(tuna->adds_m, 0.01);
+    }
   }
 }
 

@@ -98,10 +98,9 @@ StatusOr<std::unique_ptr<BoxScorer>> BoxScorer::Create(Context& context, const I
     s.levels_.push_back(level);
     s.targets_.push_back(target);
   }
-  if (opt.weight.box_fit > 0) {
-    s.extremes_ = score::ExtremePoints(mesh);
+  s.extremes_ = context.Extremes(mesh);
+  if (s.extremes_)
     for (const Detection& d : boxes) s.fit_boxes_.push_back(score::FitBoxOf(d, K));
-  }
   s.settings_.inlier_mode = opt.weight.inlier;
   s.settings_.eps_m = static_cast<float>(opt.weight.eps_m);
   s.settings_.cull_backfaces = opt.engine.backface_culling;
@@ -156,10 +155,10 @@ void BoxScorer::Weigh(filter::ParticleSet* particles, EngineCounters* counters, 
     for (size_t i = 0; i < p.size(); ++i)
       p.weight[i] = score::WeightWithColour(counts_[i], observed_[p.box[i]].score, w, a);
   }
-  if (w.box_fit > 0) {
+  if (extremes_) {
     for (size_t i = 0; i < p.size(); ++i) {
-      const double share =
-          score::BoxFitShare(extremes_, p.R_cam_obj[i], p.t_cam_obj_m[i], K_, fit_boxes_[static_cast<size_t>(p.box[i])]);
+      const double share = score::BoxFitShare(*extremes_, p.R_cam_obj[i], p.t_cam_obj_m[i], K_,
+                                              fit_boxes_[static_cast<size_t>(p.box[i])]);
       p.weight[i] *= score::BoxFitFactor(share, w.box_fit);
     }
   }

@@ -95,7 +95,7 @@ class BoxScorer {
   std::shared_ptr<const appearance::ColourGrid> colour_;
   score::ColourLookup colour_lookup_;
   std::vector<score::InlierCounts> counts_;  // Weigh's
-  std::vector<Eigen::Vector3d> extremes_;    // the mesh's extreme points (score/box_fit.h)
+  std::shared_ptr<const std::vector<Eigen::Vector3d>> extremes_;  // the box fit's (Context::Extremes)
   std::vector<score::FitBox> fit_boxes_;     // each box, for the box fit
 };
 

@@ -86,7 +86,9 @@ TEST(BoxScorer, WeighGivesEachSampleTheWeightOfItsCountsAndBoxFit) {
       scaled += factor < 1;
       EXPECT_EQ(p.weight[i], score::Weight(counts[i], 0.8, o.weight) * factor);
     }
-    if (box_fit > 0) EXPECT_GT(scaled, 0);
+    if (box_fit > 0) {
+      EXPECT_GT(scaled, 0);
+    }
     EXPECT_EQ(c1.fragments, c2.fragments);
     EXPECT_GT(c1.fragments, 0);
     EXPECT_EQ(c1.triangles_full, static_cast<int64_t>(s.mesh.triangles.size()) * o.samples);

@@ -1,6 +1,7 @@
 #include "engine/context.h"
 
 #include "core/check.h"
+#include "score/box_fit.h"
 
 namespace mcpose::engine {
 
@@ -38,6 +39,18 @@ std::shared_ptr<const appearance::ColourGrid> Context::Colour(const Mesh& mesh) 
   return caches_->colour.emplace(key, std::move(built)).first->second;
 }
 
+std::shared_ptr<const std::vector<Eigen::Vector3d>> Context::Extremes(const Mesh& mesh) {
+  if (!(options_.weight.box_fit > 0)) return nullptr;
+  const uint64_t key = render::MeshFingerprint(mesh);
+  {
+    std::lock_guard<std::mutex> lock(caches_->mutex);
+    if (auto it = caches_->extremes.find(key); it != caches_->extremes.end()) return it->second;
+  }
+  auto built = std::make_shared<const std::vector<Eigen::Vector3d>>(score::ExtremePoints(mesh));
+  std::lock_guard<std::mutex> lock(caches_->mutex);
+  return caches_->extremes.emplace(key, std::move(built)).first->second;
+}
+
 void Context::PrepareMeshes(std::span<const Mesh* const> meshes) {
   if (meshes.empty()) return;
   pool().ParallelFor(
@@ -46,6 +59,7 @@ void Context::PrepareMeshes(std::span<const Mesh* const> meshes) {
         for (int64_t i = begin; i < end; ++i) {
           Lod(*meshes[static_cast<size_t>(i)]);
           Colour(*meshes[static_cast<size_t>(i)]);
+          Extremes(*meshes[static_cast<size_t>(i)]);
         }
       },
       /*chunks_per_thread=*/static_cast<int>(meshes.size()));

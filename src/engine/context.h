@@ -9,6 +9,9 @@
 #include <memory>
 #include <mutex>
 #include <span>
+#include <vector>
+
+#include <Eigen/Core>
 
 #include "appearance/colour_grid.h"
 #include "engine/raster_cores.h"
@@ -37,16 +40,21 @@ class Context {
   // The colour grid of `mesh`'s appearance, baked on first use and cached by its content;
   // null when the mesh has no colour or the options turn colour off. Thread-safe, as Lod.
   std::shared_ptr<const appearance::ColourGrid> Colour(const Mesh& mesh);
-  // Builds the chains and colour grids of these meshes now, one mesh per raster core.
+  // The extreme points of `mesh` the box fit projects (score/box_fit.h), found on first use and
+  // cached by its content; null when the options turn the box fit off. Thread-safe, as Lod.
+  std::shared_ptr<const std::vector<Eigen::Vector3d>> Extremes(const Mesh& mesh);
+  // Builds the chains, colour grids and extreme points of these meshes now, one mesh per raster
+  // core.
   void PrepareMeshes(std::span<const Mesh* const> meshes);
 
  private:
   EstimatorOptions options_;
   RasterCores cores_;
   struct Caches {
-    std::mutex mutex;  // guards both maps
+    std::mutex mutex;  // guards the maps
     std::map<uint64_t, std::shared_ptr<const render::LodChain>> lod;
     std::map<uint64_t, std::shared_ptr<const appearance::ColourGrid>> colour;
+    std::map<uint64_t, std::shared_ptr<const std::vector<Eigen::Vector3d>>> extremes;
   };
   std::shared_ptr<Caches> caches_ = std::make_shared<Caches>();
 };
