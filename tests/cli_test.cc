@@ -504,6 +504,42 @@ TEST(Cli, TurnProfileOfTheTunaCan) {
   }
 }
 
+// The refinement floor on the BOP frames: every instance aligned from its truth, the summary and
+// the per-instance JSON; bad options give one error and no JSON.
+TEST(Cli, RefineFloorOnTheBopFrames) {
+  const fs::path dir = testing::TempDir("refine_floor");
+  const fs::path json = dir / "floor.json";
+  const std::string base = "refine-floor --dataset " + testing::BopDir();
+  const CliResult r = RunTools(base + " --start-mm 10 --start-deg 5 --json " + json.string(), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("\nALL "), std::string::npos) << r.out;
+  const nlohmann::json doc = nlohmann::json::parse(ReadText(json));
+  const int n = doc["overall"]["instances"].get<int>();
+  EXPECT_GT(n, 0);
+  ASSERT_EQ(doc["instances"].size(), static_cast<size_t>(n));
+  EXPECT_EQ(doc["options"]["start_mm"], 10.0);
+  EXPECT_EQ(doc["options"]["iterations"], 20);
+  for (const auto& i : doc["instances"]) {
+    EXPECT_NEAR(i["adds_start_mm"].get<double>(), 0, 10.001);
+    EXPECT_LT(i["adds_aligned_mm"].get<double>(), 10.0) << i.dump();
+  }
+  EXPECT_LT(doc["overall"]["mean_aligned_adds_mm"].get<double>(), doc["overall"]["mean_start_adds_mm"].get<double>());
+
+  for (const auto& [args, message] : std::vector<std::pair<std::string, std::string>>{
+           {" --start-deg 200", "start_deg must be in [0, 180]"},
+           {" --tukey 0", "refine.tukey_m must be > 0"},
+           {" --box-margin -1", "box_margin must be >= 0"}}) {
+    const fs::path bad = dir / "bad.json";
+    const CliResult b = RunTools(base + args + " --json " + bad.string(), dir);
+    EXPECT_NE(b.exit_code, 0) << args;
+    EXPECT_NE(b.err.find(message), std::string::npos) << args << ": " << b.err;
+    EXPECT_FALSE(fs::exists(bad)) << args;
+  }
+  const CliResult missing = RunTools("refine-floor --dataset " + (dir / "nowhere").string(), dir);
+  EXPECT_NE(missing.exit_code, 0);
+  EXPECT_NE(missing.err.find("nowhere"), std::string::npos) << missing.err;
+}
+
 TEST(Cli, HelpOnEveryCommand) {
   const fs::path dir = testing::TempDir("help");
   for (const char* cmd : {"", "estimate ", "detections-from-gt ", "eval ", "bench "}) {
@@ -511,7 +547,7 @@ TEST(Cli, HelpOnEveryCommand) {
     EXPECT_EQ(r.exit_code, 0) << cmd;
     EXPECT_NE(r.out.find("--"), std::string::npos) << cmd;
   }
-  for (const char* cmd : {"", "ambiguity ", "turn-profile "}) {
+  for (const char* cmd : {"", "ambiguity ", "turn-profile ", "refine-floor "}) {
     const CliResult r = RunTools(std::string(cmd) + "--help", dir);
     EXPECT_EQ(r.exit_code, 0) << cmd;
     EXPECT_NE(r.out.find("--"), std::string::npos) << cmd;

@@ -4,11 +4,12 @@
 
 int main(int argc, char** argv) {
   CLI::App app{
-      "mcpose-tools: diagnostics of the depth-only likelihood on real frames (for developers of mcpose)."};
+      "mcpose-tools: diagnostics of the depth-only likelihood and the refinement on real frames (for developers of mcpose)."};
   app.require_subcommand(1);
   mcpose::Status status;
   mcpose::tools::AddAmbiguityCommand(app, &status);
   mcpose::tools::AddTurnProfileCommand(app, &status);
+  mcpose::tools::AddRefineFloorCommand(app, &status);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
