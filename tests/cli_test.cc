@@ -18,6 +18,7 @@
 
 #include "io/ply_io.h"
 #include "io/png_io.h"
+#include "mcpose/dataset.h"
 #include "mcpose/results.h"
 #include "mcpose/options.h"
 #include "render/simd_targets.h"
@@ -540,6 +541,55 @@ TEST(Cli, RefineFloorOnTheBopFrames) {
   EXPECT_NE(missing.err.find("nowhere"), std::string::npos) << missing.err;
 }
 
+// Misses on a BOP frame: every object at its truth but one moved 5 cm; that one is the only
+// answer listed, and the truth outweighs it (a search failure). Bad input: one error, no JSON.
+TEST(Cli, MissesTellsSearchFromWeightFailures) {
+  const fs::path dir = testing::TempDir("misses");
+  auto ds = Dataset::Open(testing::BopDir());
+  ASSERT_TRUE(ds.ok()) << ds.status().ToString();
+  const FrameKey key = (*ds)->Frames().front();
+  auto frame = (*ds)->LoadFrame(key);
+  ASSERT_TRUE(frame.ok()) << frame.status().ToString();
+  ASSERT_FALSE(frame->gt.empty());
+  std::vector<PoseResult> rows;
+  for (const GtInstance& g : frame->gt) {
+    PoseResult r;
+    r.scene_id = key.scene_id, r.im_id = key.image_id, r.obj_id = g.obj_id, r.score = 1;
+    r.T_cam_obj = g.T_cam_obj;
+    if (rows.empty()) r.T_cam_obj.t.x() += 0.05;
+    rows.push_back(r);
+  }
+  ASSERT_TRUE(WriteResultsCsv((dir / "r.csv").string(), rows).ok());
+  const CliResult d = RunCli("detections-from-gt --dataset " + testing::BopDir() + " --jitter 0 --distractors 0 --out " +
+                             (dir / "d.json").string(), dir);
+  ASSERT_EQ(d.exit_code, 0) << d.err;
+  const std::string base = "misses --dataset " + testing::BopDir() + " --detections " + (dir / "d.json").string() +
+                           " --scene " + std::to_string(key.scene_id) + " --appearance off";
+  const fs::path json = dir / "m.json";
+  const CliResult r = RunTools(base + " --results " + (dir / "r.csv").string() + " --json " + json.string(), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json doc = nlohmann::json::parse(ReadText(json));
+  ASSERT_EQ(doc["misses"].size(), 1u) << r.out;
+  const nlohmann::json& m = doc["misses"][0];
+  EXPECT_EQ(m["obj_id"], rows[0].obj_id);
+  EXPECT_EQ(m["im_id"], key.image_id);
+  EXPECT_GT(m["adds_mm"].get<double>(), 10.0);
+  EXPECT_EQ(m["failure"], "search") << m.dump();
+  EXPECT_GT(m["truth_weight"].get<double>(), m["estimate_weight"].get<double>());
+  EXPECT_LT(m["truth_aligned_adds_mm"].get<double>(), 10.0);
+  EXPECT_NE(r.out.find("1 answers: 1 search failures, 0 weight failures"), std::string::npos) << r.out;
+
+  for (const auto& [args, message] : std::vector<std::pair<std::string, std::string>>{
+           {" --results " + (dir / "none.csv").string(), "none.csv"},
+           {" --results " + (dir / "r.csv").string() + " --min-adds-mm -1", "--min-adds-mm must be >= 0"}}) {
+    const fs::path bad = dir / "bad.json";
+    const CliResult b = RunTools(base + args + " --json " + bad.string(), dir);
+    EXPECT_NE(b.exit_code, 0) << args;
+    EXPECT_NE(b.err.find(message), std::string::npos) << args << ": " << b.err;
+    EXPECT_FALSE(fs::exists(bad)) << args;
+  }
+}
+
 TEST(Cli, HelpOnEveryCommand) {
   const fs::path dir = testing::TempDir("help");
   for (const char* cmd : {"", "estimate ", "detections-from-gt ", "eval ", "bench "}) {
@@ -547,7 +597,7 @@ TEST(Cli, HelpOnEveryCommand) {
     EXPECT_EQ(r.exit_code, 0) << cmd;
     EXPECT_NE(r.out.find("--"), std::string::npos) << cmd;
   }
-  for (const char* cmd : {"", "ambiguity ", "turn-profile ", "refine-floor "}) {
+  for (const char* cmd : {"", "ambiguity ", "turn-profile ", "refine-floor ", "misses "}) {
     const CliResult r = RunTools(std::string(cmd) + "--help", dir);
     EXPECT_EQ(r.exit_code, 0) << cmd;
     EXPECT_NE(r.out.find("--"), std::string::npos) << cmd;

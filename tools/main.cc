@@ -4,12 +4,13 @@
 
 int main(int argc, char** argv) {
   CLI::App app{
-      "mcpose-tools: diagnostics of the depth-only likelihood and the refinement on real frames (for developers of mcpose)."};
+      "mcpose-tools: diagnostics of the likelihood, the search and the refinement on real frames (for developers of mcpose)."};
   app.require_subcommand(1);
   mcpose::Status status;
   mcpose::tools::AddAmbiguityCommand(app, &status);
   mcpose::tools::AddTurnProfileCommand(app, &status);
   mcpose::tools::AddRefineFloorCommand(app, &status);
+  mcpose::tools::AddMissesCommand(app, &status);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -10,5 +10,6 @@ namespace mcpose::tools {
 void AddAmbiguityCommand(CLI::App& app, Status* status);
 void AddTurnProfileCommand(CLI::App& app, Status* status);
 void AddRefineFloorCommand(CLI::App& app, Status* status);
+void AddMissesCommand(CLI::App& app, Status* status);
 
 }  // namespace mcpose::tools

@@ -9,40 +9,27 @@
 
 #include <gtest/gtest.h>
 
-#include "core/rng.h"
 #include "mcpose/eval.h"
 #include "synthetic_mesh.h"
+#include "synthetic_scene.h"
 
 namespace mcpose::analysis {
 namespace {
 
-constexpr int kW = 320, kH = 240;
-
 struct Scene {
-  Intrinsics K{600, 600, 160, 120, kW, kH};
   Mesh mesh;
-  std::vector<Eigen::Vector3f> points;
+  testing::SyntheticFrame frame;
+  std::vector<Eigen::Vector3f> points;  // the mesh vertices
   SE3 T_gt{ExpSO3(Eigen::Vector3d(0.4, -0.3, 0.5)), Eigen::Vector3d(-0.02, 0.01, 0.7)};
-  DepthImage depth;
-  render::PixelRect box{0, 0, kW, kH};
+  render::PixelRect box{0, 0, 320, 240};
 };
 
-// A cuboid with three different sides; the observed depth is the cuboid at `T_depth` in front
-// of random depths in 0.9-1.5 m.
+// A cuboid with three different sides, its observed depth rendered at `T_depth` in front of
+// random depths in 0.9-1.5 m.
 Scene MakeScene(const SE3& T_depth) {
   Scene s;
   testing::AddBox(&s.mesh, {-0.04f, -0.02f, -0.01f}, {0.08f, 0.05f, 0.03f});
-  render::RasterParams p;
-  p.fx = p.fy = 600, p.cx = 160, p.cy = 120;
-  p.box = s.box;
-  std::vector<render::ScreenVertex> sv(s.mesh.vertices_m.size());
-  render::ProjectVertices(s.mesh.vertices_m, T_depth.R.cast<float>(), T_depth.t.cast<float>(), p, sv);
-  s.depth.width = kW, s.depth.height = kH;
-  s.depth.depth_m.assign(kW * kH, INFINITY);
-  render::RasterizeDepthReference(sv, s.mesh.triangles, p, s.depth.depth_m.data(), nullptr);
-  Rng rng(5, 6);
-  for (float& z : s.depth.depth_m)
-    if (std::isinf(z)) z = static_cast<float>(rng.Uniform(0.9, 1.5));
+  s.frame = testing::RenderFrame(s.mesh, T_depth, [](const Eigen::Vector3f&) { return Rgba8{128, 128, 128, 255}; }, 6);
   s.points = s.mesh.vertices_m;
   return s;
 }
@@ -67,7 +54,7 @@ TEST(RefineFloor, ReturnsToTheTruthWhereDepthAgreesWithIt) {
   RefineFloorOptions o;
   o.start_mm = 5, o.start_deg = 3;
   for (uint64_t i = 0; i < 5; ++i) {
-    const InstanceFloor f = AnalyzeInstance(s.K, s.depth, s.mesh, s.points, s.T_gt, s.box, o, i);
+    const InstanceFloor f = AnalyzeInstance(s.frame.K, s.frame.depth, s.mesh, s.points, s.T_gt, s.box, o, i);
     EXPECT_GT(f.adds_start_m, 0.003) << i;
     EXPECT_LT(f.adds_aligned_m, 0.0005) << i;
     EXPECT_GT(f.iterations, 0) << i;
@@ -81,7 +68,7 @@ TEST(RefineFloor, MeasuresTheDisagreementOfTruthAndDepth) {
   const Eigen::Vector3d side = ray.cross(Eigen::Vector3d::UnitY()).normalized();
   const Scene s = MakeScene(SE3{T_gt.R, T_gt.t + 0.002 * side});
   RefineFloorOptions o;  // from the truth itself
-  const InstanceFloor f = AnalyzeInstance(s.K, s.depth, s.mesh, s.points, T_gt, s.box, o, 0);
+  const InstanceFloor f = AnalyzeInstance(s.frame.K, s.frame.depth, s.mesh, s.points, T_gt, s.box, o, 0);
   EXPECT_NEAR(f.adds_start_m, 0.0, 1e-12);
   EXPECT_NEAR(f.across_ray_mm, 2.0, 0.3);
   EXPECT_NEAR(f.along_ray_mm, 0.0, 0.3);

@@ -1,0 +1,38 @@
+// Misses: is a wrong answer the weight's fault or the search's? For an estimate far from the
+// truth, the estimator's weight at full resolution (every pixel of the full mesh, colour where
+// the estimate had it) of the estimate and of the truth aligned to the depth by the refinement,
+// each at its best over the class's boxes. Where the truth weighs more, the filter never found
+// it (a search failure: more samples or better moves could); where the estimate weighs as much
+// or more, the weight itself prefers the wrong pose, and no search can fix it.
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include "engine/context.h"
+#include "mcpose/camera.h"
+#include "mcpose/detection.h"
+#include "mcpose/image.h"
+#include "mcpose/mesh.h"
+#include "mcpose/se3.h"
+#include "mcpose/status.h"
+#include "refine/align.h"
+
+namespace mcpose::analysis {
+
+struct MissWeight {
+  double estimate_weight = 0;  // the estimate's best full-resolution weight over the boxes
+  int estimate_box = -1;       // the box of that weight
+  double truth_weight = 0;     // the aligned truth's, likewise
+  int truth_box = -1;
+  SE3 truth_aligned;           // the truth aligned in truth_box
+  bool search_failure() const { return truth_weight > estimate_weight; }
+};
+
+// Weighs `T_est` and `T_gt` (aligned to `depth` in each box by `align`) in every box of `boxes`
+// (one class) with `context`'s options; `colour` may be null (depth only).
+StatusOr<MissWeight> WeighMiss(engine::Context& context, const Intrinsics& K, const DepthImage& depth,
+                               const ColourImage* colour, const Mesh& mesh, std::span<const Detection> boxes,
+                               const SE3& T_est, const SE3& T_gt, const refine::AlignOptions& align);
+
+}  // namespace mcpose::analysis
