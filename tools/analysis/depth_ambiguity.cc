@@ -8,6 +8,7 @@
 
 #include <Eigen/Geometry>
 
+#include "analysis/visible_instances.h"
 #include "mcpose/eval.h"
 
 namespace mcpose::analysis {
@@ -108,33 +109,20 @@ StatusOr<AmbiguityReport> AnalyzeDataset(const Dataset& dataset, const Ambiguity
   std::string error;
   if (!options.IsValid(&error)) return InvalidArgument("invalid ambiguity options: " + error);
   const std::set<int> symmetric = YcbvSymmetricObjectIds();
-  std::map<int, Mesh> meshes;
-  std::map<int, std::vector<Eigen::Vector3f>> points;
   AmbiguityReport report;
-  const std::vector<FrameKey> frames = dataset.Frames();
-  int done = 0;
-  for (const FrameKey& key : frames) {
-    MCPOSE_ASSIGN_OR_RETURN(Frame frame, dataset.LoadFrame(key));
-    for (const GtInstance& gt : frame.gt) {
-      MCPOSE_ASSIGN_OR_RETURN(MaskImage mask, dataset.LoadVisibleMask(key, gt));
-      Detection tight;
-      if (MaskBox(mask, &tight) == 0) continue;
-      if (!meshes.count(gt.obj_id)) {
-        MCPOSE_ASSIGN_OR_RETURN(Mesh mesh, dataset.LoadMesh(gt.obj_id));
-        MCPOSE_ASSIGN_OR_RETURN(std::vector<Eigen::Vector3f> pts, dataset.LoadEvalPoints(gt.obj_id));
-        meshes[gt.obj_id] = std::move(mesh);
-        points[gt.obj_id] = std::move(pts);
-      }
-      const render::PixelRect box{static_cast<int>(tight.x), static_cast<int>(tight.y),
-                                  static_cast<int>(tight.x + tight.w), static_cast<int>(tight.y + tight.h)};
-      InstanceAmbiguity a = AnalyzeInstance(frame.K, frame.depth, meshes[gt.obj_id], points[gt.obj_id],
-                                            gt.T_cam_obj, box, symmetric.count(gt.obj_id) > 0, options);
-      a.key = key;
-      a.obj_id = gt.obj_id;
-      report.instances.push_back(a);
-    }
-    if (progress) progress(++done, static_cast<int>(frames.size()));
-  }
+  MCPOSE_RETURN_IF_ERROR(ForEachVisibleInstance(
+      dataset, /*real_only=*/false,
+      [&](const VisibleInstance& v) {
+        const render::PixelRect box{static_cast<int>(v.tight.x), static_cast<int>(v.tight.y),
+                                    static_cast<int>(v.tight.x + v.tight.w), static_cast<int>(v.tight.y + v.tight.h)};
+        InstanceAmbiguity a = AnalyzeInstance(v.frame.K, v.frame.depth, v.mesh, v.points, v.gt.T_cam_obj, box,
+                                              symmetric.count(v.gt.obj_id) > 0, options);
+        a.key = v.frame.key;
+        a.obj_id = v.gt.obj_id;
+        report.instances.push_back(a);
+        return Status::Ok();
+      },
+      progress));
   std::map<int, AmbiguityReport::Row> rows;
   for (const InstanceAmbiguity& a : report.instances) {
     for (AmbiguityReport::Row* r : {&rows[a.obj_id], &report.overall}) {

@@ -5,6 +5,7 @@
 #include <map>
 #include <numbers>
 
+#include "analysis/visible_instances.h"
 #include "core/rng.h"
 #include "mcpose/eval.h"
 
@@ -74,40 +75,25 @@ StatusOr<RefineFloorReport> AnalyzeRefineFloor(const Dataset& dataset, const Ref
                                                void (*progress)(int done, int total)) {
   std::string error;
   if (!options.IsValid(&error)) return InvalidArgument("invalid refine-floor options: " + error);
-  std::map<int, Mesh> meshes;
-  std::map<int, std::vector<Eigen::Vector3f>> points;
   RefineFloorReport report;
-  const std::vector<FrameKey> frames = dataset.Frames();
-  int done = 0;
-  for (const FrameKey& key : frames) {
-    if (key.scene_id == kSyntheticScene) {  // rendered from their truth: they agree by construction
-      if (progress) progress(++done, static_cast<int>(frames.size()));
-      continue;
-    }
-    MCPOSE_ASSIGN_OR_RETURN(Frame frame, dataset.LoadFrame(key));
-    for (const GtInstance& gt : frame.gt) {
-      MCPOSE_ASSIGN_OR_RETURN(MaskImage mask, dataset.LoadVisibleMask(key, gt));
-      Detection tight;
-      if (MaskBox(mask, &tight) == 0) continue;
-      if (!meshes.count(gt.obj_id)) {
-        MCPOSE_ASSIGN_OR_RETURN(Mesh mesh, dataset.LoadMesh(gt.obj_id));
-        MCPOSE_ASSIGN_OR_RETURN(std::vector<Eigen::Vector3f> pts, dataset.LoadEvalPoints(gt.obj_id));
-        meshes[gt.obj_id] = std::move(mesh);
-        points[gt.obj_id] = std::move(pts);
-      }
-      const double mx = options.box_margin * tight.w, my = options.box_margin * tight.h;
-      const render::PixelRect box{std::max(0, static_cast<int>(std::floor(tight.x - mx))),
-                                  std::max(0, static_cast<int>(std::floor(tight.y - my))),
-                                  std::min(frame.K.width, static_cast<int>(std::ceil(tight.x + tight.w + mx))),
-                                  std::min(frame.K.height, static_cast<int>(std::ceil(tight.y + tight.h + my)))};
-      InstanceFloor f = AnalyzeInstance(frame.K, frame.depth, meshes[gt.obj_id], points[gt.obj_id], gt.T_cam_obj,
-                                        box, options, report.instances.size());
-      f.key = key;
-      f.obj_id = gt.obj_id;
-      report.instances.push_back(f);
-    }
-    if (progress) progress(++done, static_cast<int>(frames.size()));
-  }
+  // The synthetic frames are rendered from their truth: they agree with it by construction.
+  MCPOSE_RETURN_IF_ERROR(ForEachVisibleInstance(
+      dataset, /*real_only=*/true,
+      [&](const VisibleInstance& v) {
+        const Detection& t = v.tight;
+        const double mx = options.box_margin * t.w, my = options.box_margin * t.h;
+        const render::PixelRect box{std::max(0, static_cast<int>(std::floor(t.x - mx))),
+                                    std::max(0, static_cast<int>(std::floor(t.y - my))),
+                                    std::min(v.frame.K.width, static_cast<int>(std::ceil(t.x + t.w + mx))),
+                                    std::min(v.frame.K.height, static_cast<int>(std::ceil(t.y + t.h + my)))};
+        InstanceFloor f = AnalyzeInstance(v.frame.K, v.frame.depth, v.mesh, v.points, v.gt.T_cam_obj, box, options,
+                                          report.instances.size());
+        f.key = v.frame.key;
+        f.obj_id = v.gt.obj_id;
+        report.instances.push_back(f);
+        return Status::Ok();
+      },
+      progress));
   std::map<int, std::vector<const InstanceFloor*>> by_object;
   for (const InstanceFloor& f : report.instances) by_object[f.obj_id].push_back(&f);
   auto summarize = [&](const std::vector<const InstanceFloor*>& group, RefineFloorReport::Row* r) {
