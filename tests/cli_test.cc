@@ -578,6 +578,14 @@ TEST(Cli, MissesTellsSearchFromWeightFailures) {
   EXPECT_GT(m["truth_weight"].get<double>(), m["estimate_weight"].get<double>());
   EXPECT_LT(m["truth_aligned_adds_mm"].get<double>(), 10.0);
   EXPECT_NE(r.out.find("1 answers: 1 search failures, 0 weight failures"), std::string::npos) << r.out;
+  // As the filter weighs (its level of detail and pixel stride): the same verdict.
+  const CliResult f = RunTools(base + " --as-filter --results " + (dir / "r.csv").string() + " --json " + json.string(), dir);
+  ASSERT_EQ(f.exit_code, 0) << f.err;
+  const nlohmann::json as_filter = nlohmann::json::parse(ReadText(json));
+  EXPECT_EQ(as_filter["as_filter"], true);
+  ASSERT_EQ(as_filter["misses"].size(), 1u);
+  EXPECT_EQ(as_filter["misses"][0]["failure"], "search");
+  EXPECT_NE(as_filter["misses"][0]["estimate_weight"], m["estimate_weight"]) << "weighed at another resolution";
 
   for (const auto& [args, message] : std::vector<std::pair<std::string, std::string>>{
            {" --results " + (dir / "none.csv").string(), "none.csv"},

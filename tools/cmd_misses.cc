@@ -25,6 +25,7 @@ struct MissesArgs {
   std::string dataset, split = "test", models, detections, results, json;
   int scene = -2;  // -2: every scene
   double min_adds_mm = 10;
+  bool as_filter = false;
   cli::EstimatorFlags flags;
 };
 
@@ -51,10 +52,10 @@ Status RunMisses(MissesArgs& a) {
   engine::Context context(o);
   const refine::AlignOptions align = engine::AlignSettings(o.refine, o.refine.max_iterations);
   std::map<int, Mesh> meshes;
-  std::printf("Answers with ADD-S >= %.1f mm: full-resolution weight of the estimate and of the truth aligned to\n"
+  std::printf("Answers with ADD-S >= %.1f mm: %s weight of the estimate and of the truth aligned to\n"
               "the depth, each at its best over the class's boxes. search: the truth weighs more (the filter\n"
               "did not find it); weight: the estimate weighs as much or more.\n",
-              a.min_adds_mm);
+              a.min_adds_mm, a.as_filter ? "the filter's (its level of detail and pixel stride)" : "full-resolution");
   std::printf("%-10s %-24s %9s %10s %5s %10s %5s %12s %8s\n", "scene/im", "object", "ADD-S mm", "estimate", "box",
               "truth", "box", "truth mm", "failure");
   nlohmann::json rows = nlohmann::json::array();
@@ -78,7 +79,8 @@ Status RunMisses(MissesArgs& a) {
     const PoseResult& est = *estimate.at({e.key.scene_id, e.key.image_id, e.obj_id});
     MCPOSE_ASSIGN_OR_RETURN(std::vector<Eigen::Vector3f> points, dataset->LoadEvalPoints(e.obj_id));
     auto m = analysis::WeighMiss(context, frame.K, frame.depth, colour ? &*colour : nullptr, mesh, boxes,
-                                 est.T_cam_obj, T_gt, align);
+                                 est.T_cam_obj, T_gt, align,
+                                 a.as_filter ? engine::Resolution::kEngine : engine::Resolution::kFull);
     if (!m.ok())
       return Status(m.status().code(), dataset->FrameName(e.key) + ": " + m.status().message());
     const double truth_mm = 1000 * AddS(points, m->truth_aligned, T_gt);
@@ -96,7 +98,7 @@ Status RunMisses(MissesArgs& a) {
   }
   std::printf("%d answers: %d search failures, %d weight failures\n", search + weight, search, weight);
   if (!a.json.empty()) {
-    const nlohmann::json doc = {{"min_adds_mm", a.min_adds_mm}, {"search_failures", search},
+    const nlohmann::json doc = {{"min_adds_mm", a.min_adds_mm}, {"as_filter", a.as_filter}, {"search_failures", search},
                                 {"weight_failures", weight}, {"misses", rows}};
     MCPOSE_RETURN_IF_ERROR(io::WriteFileAtomic(a.json, doc.dump(1) + "\n"));
   }
@@ -118,6 +120,8 @@ void AddMissesCommand(CLI::App& app, Status* status) {
   cmd->add_option("--results", args->results, "The estimate's results CSV")->required();
   cmd->add_option("--scene", args->scene, "Only this scene (video)");
   cmd->add_option("--min-adds-mm", args->min_adds_mm, "Answers with at least this ADD-S, mm")->capture_default_str();
+  cmd->add_flag("--as-filter", args->as_filter,
+                "Weigh as the filter does (its level of detail and pixel stride), not at full resolution");
   cli::AddEstimatorFlags(cmd, cli::kWeightFlags | cli::kEngineFlags | cli::kAppearanceFlags | cli::kRefineFlags,
                          &args->flags);
   cmd->add_option("--json", args->json, "Also write each answer's weights and verdict as JSON");

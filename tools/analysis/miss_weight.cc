@@ -2,16 +2,15 @@
 
 #include <memory>
 
-#include "engine/box_scorer.h"
-
 namespace mcpose::analysis {
 
 StatusOr<MissWeight> WeighMiss(engine::Context& context, const Intrinsics& K, const DepthImage& depth,
                                const ColourImage* colour, const Mesh& mesh, std::span<const Detection> boxes,
-                               const SE3& T_est, const SE3& T_gt, const refine::AlignOptions& align) {
+                               const SE3& T_est, const SE3& T_gt, const refine::AlignOptions& align,
+                               engine::Resolution resolution) {
   if (boxes.empty()) return InvalidArgument("no box to weigh the estimate and the truth in");
   MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<engine::BoxScorer> full,
-                          engine::BoxScorer::Create(context, K, depth, mesh, boxes, colour, engine::Resolution::kFull));
+                          engine::BoxScorer::Create(context, K, depth, mesh, boxes, colour, resolution));
   // Per box b: sample 2b the estimate, 2b + 1 the truth aligned in that box.
   const int n = full->num_boxes();
   filter::ParticleSet poses;

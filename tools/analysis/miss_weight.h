@@ -9,6 +9,7 @@
 #include <span>
 #include <vector>
 
+#include "engine/box_scorer.h"
 #include "engine/context.h"
 #include "mcpose/camera.h"
 #include "mcpose/detection.h"
@@ -30,9 +31,12 @@ struct MissWeight {
 };
 
 // Weighs `T_est` and `T_gt` (aligned to `depth` in each box by `align`) in every box of `boxes`
-// (one class) with `context`'s options; `colour` may be null (depth only).
+// (one class) with `context`'s options, at full resolution or, with Resolution::kEngine, as the
+// filter weighs its samples (its level of detail and pixel stride); `colour` may be null (depth
+// only).
 StatusOr<MissWeight> WeighMiss(engine::Context& context, const Intrinsics& K, const DepthImage& depth,
                                const ColourImage* colour, const Mesh& mesh, std::span<const Detection> boxes,
-                               const SE3& T_est, const SE3& T_gt, const refine::AlignOptions& align);
+                               const SE3& T_est, const SE3& T_gt, const refine::AlignOptions& align,
+                               engine::Resolution resolution = engine::Resolution::kFull);
 
 }  // namespace mcpose::analysis
