@@ -18,7 +18,6 @@
 #include "mcpose/dataset.h"
 #include "mcpose/eval.h"
 #include "render/raster.h"
-#include "score/box_fit.h"
 #include "test_data.h"
 
 namespace mcpose {
@@ -275,39 +274,6 @@ TEST(RealData, DepthAmbiguityOfCanBananaAndBowl) {
   EXPECT_DOUBLE_EQ(got[10].ceiling, 1.0);
   EXPECT_GE(got[13].equivalent, 12);  // the bowl turns about its axis, scored with ADD-S
   EXPECT_DOUBLE_EQ(got[13].ceiling, 1.0);
-}
-
-// The tomato can of video 0003 frame 138 is cut by the image's top edge; a detector-like box
-// (box seed 1) starts 1.3 px below that edge. What lies above the image no detector saw, so the
-// truth's box fit counts only the part of its rectangle inside the image: a share of 0.80, no
-// penalty, where the whole rectangle would have given well under the 0.8 threshold and scaled
-// the truth's weight down (to 0.18 at full resolution against 0.38 for a pose 4 cm off).
-TEST(RealData, BoxFitCountsOnlyWhatTheImageShows) {
-  auto ds = OpenYcbv();
-  ASSERT_TRUE(ds);
-  const Detection box{3, 138, 4, 0.7644985849465646, 185.32799074830885, 1.3204672339214625, 96.69384774113715,
-                      34.121424424781196};
-  auto frame = ds->LoadFrame({3, 138});
-  auto mesh = ds->LoadMesh(4);
-  ASSERT_TRUE(frame.ok() && mesh.ok());
-  const auto gt = std::find_if(frame->gt.begin(), frame->gt.end(), [](const GtInstance& g) { return g.obj_id == 4; });
-  ASSERT_NE(gt, frame->gt.end());
-  const std::vector<Eigen::Vector3d> extremes = score::ExtremePoints(*mesh);
-  const SE3& T = gt->T_cam_obj;
-  const double share = score::BoxFitShare(extremes, T.R, T.t, frame->K, score::FitBoxOf(box));
-  // The same share over the whole rectangle, above the image included.
-  double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
-  for (const Eigen::Vector3d& p : extremes) {
-    const Eigen::Vector3d c = T.R * p + T.t;
-    const double u = frame->K.fx * c.x() / c.z() + frame->K.cx, v = frame->K.fy * c.y() / c.z() + frame->K.cy;
-    x0 = std::min(x0, u), x1 = std::max(x1, u), y0 = std::min(y0, v), y1 = std::max(y1, v);
-  }
-  ASSERT_LT(y0, 0) << "the can reaches past the image's top edge";
-  const double whole = std::max(0.0, std::min(x1, box.x + box.w) - std::max(x0, box.x)) *
-                       std::max(0.0, std::min(y1, box.y + box.h) - std::max(y0, box.y)) / ((x1 - x0) * (y1 - y0));
-  std::printf("  the truth's share inside the box: %.3f of what the image shows, %.3f of the whole\n", share, whole);
-  EXPECT_GE(share, EstimatorOptions{}.weight.box_fit);
-  EXPECT_LT(whole, 0.7);
 }
 
 // The refinement's alignment on the real frames, started at each ground-truth pose and 1 cm and

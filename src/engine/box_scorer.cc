@@ -100,7 +100,7 @@ StatusOr<std::unique_ptr<BoxScorer>> BoxScorer::Create(Context& context, const I
   }
   s.extremes_ = context.Extremes(mesh);
   if (s.extremes_)
-    for (const Detection& d : boxes) s.fit_boxes_.push_back(score::FitBoxOf(d));
+    for (const Detection& d : boxes) s.fit_boxes_.push_back(score::FitBoxOf(d, K));
   s.settings_.inlier_mode = opt.weight.inlier;
   s.settings_.eps_m = static_cast<float>(opt.weight.eps_m);
   s.settings_.cull_backfaces = opt.engine.backface_culling;

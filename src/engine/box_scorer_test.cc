@@ -81,7 +81,7 @@ TEST(BoxScorer, WeighGivesEachSampleTheWeightOfItsCountsAndBoxFit) {
     (*scorer)->Weigh(&p, &c2);
     int scaled = 0;
     for (size_t i = 0; i < p.size(); ++i) {
-      const double share = score::BoxFitShare(extremes, p.R_cam_obj[i], p.t_cam_obj_m[i], s.K, score::FitBoxOf(box));
+      const double share = score::BoxFitShare(extremes, p.R_cam_obj[i], p.t_cam_obj_m[i], s.K, score::FitBoxOf(box, s.K));
       const double factor = score::BoxFitFactor(share, box_fit);
       scaled += factor < 1;
       EXPECT_EQ(p.weight[i], score::Weight(counts[i], 0.8, o.weight) * factor);

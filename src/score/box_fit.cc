@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace mcpose::score {
 
@@ -24,7 +25,16 @@ std::vector<Eigen::Vector3d> ExtremePoints(const Mesh& mesh) {
   return out;
 }
 
-FitBox FitBoxOf(const Detection& d) { return FitBox{d.x, d.y, d.x + d.w, d.y + d.h}; }
+FitBox FitBoxOf(const Detection& d, const Intrinsics& K) {
+  constexpr double kOpen = std::numeric_limits<double>::infinity();
+  constexpr double kBorder = 1.0;  // a side within a pixel of the image's edge is at the edge
+  FitBox b{d.x, d.y, d.x + d.w, d.y + d.h};
+  if (b.x0 <= kBorder) b.x0 = -kOpen;
+  if (b.y0 <= kBorder) b.y0 = -kOpen;
+  if (b.x1 >= K.width - kBorder) b.x1 = kOpen;
+  if (b.y1 >= K.height - kBorder) b.y1 = kOpen;
+  return b;
+}
 
 double BoxFitShare(std::span<const Eigen::Vector3d> extremes, const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
                    const Intrinsics& K, const FitBox& box) {
@@ -36,13 +46,11 @@ double BoxFitShare(std::span<const Eigen::Vector3d> extremes, const Eigen::Matri
     const double u = K.fx * c.x() / c.z() + K.cx, v = K.fy * c.y() / c.z() + K.cy;
     x0 = std::min(x0, u), x1 = std::max(x1, u), y0 = std::min(y0, v), y1 = std::max(y1, v);
   }
-  if (!((x1 - x0) * (y1 - y0) > 0)) return 1.0;
-  x0 = std::max(x0, 0.0), y0 = std::max(y0, 0.0);
-  x1 = std::min(x1, static_cast<double>(K.width)), y1 = std::min(y1, static_cast<double>(K.height));
-  if (!(x1 > x0 && y1 > y0)) return 0.0;  // wholly outside the image
+  const double area = (x1 - x0) * (y1 - y0);
+  if (!(area > 0)) return 1.0;
   const double w = std::max(0.0, std::min(x1, box.x1) - std::max(x0, box.x0));
   const double h = std::max(0.0, std::min(y1, box.y1) - std::max(y0, box.y0));
-  return w * h / ((x1 - x0) * (y1 - y0));
+  return w * h / area;
 }
 
 }  // namespace mcpose::score

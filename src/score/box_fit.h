@@ -21,17 +21,15 @@ namespace mcpose::score {
 // never exceeds the object's own), at 26 projections a pose.
 std::vector<Eigen::Vector3d> ExtremePoints(const Mesh& mesh);
 
-// A detection box in image pixels.
+// A detection box in image pixels, its sides at the image border open (an object cut by the
+// border may reach past it).
 struct FitBox {
   double x0, y0, x1, y1;
 };
-FitBox FitBoxOf(const Detection& d);
+FitBox FitBoxOf(const Detection& d, const Intrinsics& K);
 
-// The share of the bounding rectangle of `extremes` projected at pose (R, t), clipped to the
-// image, that lies inside `box`, in [0, 1]: what lies outside the image no detector saw, so an
-// object cut by the image's edge may reach past its box there (however far from the edge the
-// box's side was drawn). 0 when a point lies behind the near plane (5 cm) or the rectangle lies
-// wholly outside the image, 1 for an empty rectangle.
+// The share of the bounding rectangle of `extremes` projected at pose (R, t) that lies inside
+// `box`, in [0, 1]; 0 when a point lies behind the near plane (5 cm), 1 for an empty rectangle.
 double BoxFitShare(std::span<const Eigen::Vector3d> extremes, const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
                    const Intrinsics& K, const FitBox& box);
 
