@@ -528,7 +528,8 @@ TEST(Cli, RefineFloorOnTheBopFrames) {
 
   for (const auto& [args, message] : std::vector<std::pair<std::string, std::string>>{
            {" --start-deg 200", "start_deg must be in [0, 180]"},
-           {" --tukey 0", "refine.tukey_m must be > 0"},
+           {" --tukey 0", "the alignment's Tukey scale must be > 0"},
+           {" --iterations -1", "iterations must be >= 0"},
            {" --box-margin -1", "box_margin must be >= 0"}}) {
     const fs::path bad = dir / "bad.json";
     const CliResult b = RunTools(base + args + " --json " + bad.string(), dir);

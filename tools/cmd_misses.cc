@@ -2,6 +2,9 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <string>
+#include <tuple>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -23,7 +26,7 @@ namespace {
 
 struct MissesArgs {
   std::string dataset, split = "test", models, detections, results, json;
-  int scene = -2;  // -2: every scene
+  int scene = -2;  // -2 (no scene id, the synthetic frames being -1): every scene
   double min_adds_mm = 10;
   bool as_filter = false;
   cli::EstimatorFlags flags;

@@ -1,5 +1,6 @@
 #include <cstdio>
 #include <memory>
+#include <string>
 
 #include <nlohmann/json.hpp>
 
@@ -18,7 +19,7 @@ namespace {
 
 struct RefineFloorArgs {
   std::string dataset, split = "test", json;
-  cli::EstimatorFlags flags;
+  RefineOptions refine;  // the estimator's alignment settings
   analysis::RefineFloorOptions floor;
 };
 
@@ -39,10 +40,10 @@ nlohmann::json RowJson(const analysis::RefineFloorReport::Row& r) {
 }
 
 Status RunRefineFloor(RefineFloorArgs& a) {
-  MCPOSE_RETURN_IF_ERROR(a.flags.Finish());
+  a.floor.align = engine::AlignSettings(a.refine, a.refine.max_iterations);
+  std::string error;
+  if (!a.floor.IsValid(&error)) return InvalidArgument("invalid refine-floor options: " + error);
   if (!a.json.empty()) MCPOSE_RETURN_IF_ERROR(CheckWritable(a.json));
-  const RefineOptions& r = a.flags.options.refine;
-  a.floor.align = engine::AlignSettings(r, r.max_iterations);
   MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<Dataset> dataset, Dataset::Open(a.dataset, a.split));
   MCPOSE_ASSIGN_OR_RETURN(analysis::RefineFloorReport report,
                           analysis::AnalyzeRefineFloor(*dataset, a.floor, &Progress));
@@ -99,10 +100,10 @@ void AddRefineFloorCommand(CLI::App& app, Status* status) {
   cmd->add_option("--box-margin", args->floor.box_margin, "Visible-mask box grown by this share of its size per side")
       ->capture_default_str();
   cmd->add_option("--seed", args->floor.seed, "Seed of the random starts")->capture_default_str();
-  cli::AddEstimatorFlags(cmd, cli::kRefineFlags, &args->flags);
-  cmd->add_option("--tukey", args->flags.options.refine.tukey_m, "Robust loss scale of the alignment, metres")
+  cmd->add_option("--iterations", args->refine.max_iterations, "Alignment steps (the estimator's --refine-iterations)")
       ->capture_default_str();
-  cmd->add_option("--pair-distance", args->flags.options.refine.max_distance_m,
+  cmd->add_option("--tukey", args->refine.tukey_m, "Robust loss scale of the alignment, metres")->capture_default_str();
+  cmd->add_option("--pair-distance", args->refine.max_distance_m,
                   "Model and observed points farther apart are not paired, metres")->capture_default_str();
   cmd->add_option("--json", args->json, "Also write per-instance errors and the summary as JSON");
   cmd->callback([args, status] { *status = RunRefineFloor(*args); });

@@ -1,6 +1,7 @@
 #include "analysis/miss_weight.h"
 
 #include <memory>
+#include <vector>
 
 namespace mcpose::analysis {
 
@@ -9,23 +10,23 @@ StatusOr<MissWeight> WeighMiss(engine::Context& context, const Intrinsics& K, co
                                const SE3& T_est, const SE3& T_gt, const refine::AlignOptions& align,
                                engine::Resolution resolution) {
   if (boxes.empty()) return InvalidArgument("no box to weigh the estimate and the truth in");
-  MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<engine::BoxScorer> full,
+  MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<engine::BoxScorer> scorer,
                           engine::BoxScorer::Create(context, K, depth, mesh, boxes, colour, resolution));
   // Per box b: sample 2b the estimate, 2b + 1 the truth aligned in that box.
-  const int n = full->num_boxes();
+  const int n = scorer->num_boxes();
   filter::ParticleSet poses;
   poses.Resize(static_cast<size_t>(2 * n));
   std::vector<SE3> aligned(static_cast<size_t>(n));
   for (int b = 0; b < n; ++b) {
     aligned[static_cast<size_t>(b)] =
-        refine::AlignToDepth(K, depth, full->box_observation(b).image_rect, mesh, T_gt, align).T_cam_obj;
+        refine::AlignToDepth(K, depth, scorer->box_observation(b).image_rect, mesh, T_gt, align).T_cam_obj;
     const size_t e = static_cast<size_t>(2 * b), t = e + 1;
     poses.R_cam_obj[e] = T_est.R, poses.t_cam_obj_m[e] = T_est.t, poses.box[e] = b;
     poses.R_cam_obj[t] = aligned[static_cast<size_t>(b)].R, poses.t_cam_obj_m[t] = aligned[static_cast<size_t>(b)].t;
     poses.box[t] = b;
   }
   EngineCounters counters;
-  full->Weigh(&poses, &counters);
+  scorer->Weigh(&poses, &counters);
   MissWeight out;
   out.estimate_weight = out.truth_weight = -1;
   for (int b = 0; b < n; ++b) {

@@ -1,7 +1,7 @@
 // Misses: is a wrong answer the weight's fault or the search's? For an estimate far from the
-// truth, the estimator's weight at full resolution (every pixel of the full mesh, colour where
-// the estimate had it) of the estimate and of the truth aligned to the depth by the refinement,
-// each at its best over the class's boxes. Where the truth weighs more, the filter never found
+// truth, the estimator's weight (at full resolution, every pixel of the full mesh, or as the
+// filter weighs; colour where the estimate had it) of the estimate and of the truth aligned to
+// the depth by the refinement, each at its best over the class's boxes. Where the truth weighs more, the filter never found
 // it (a search failure: more samples or better moves could); where the estimate weighs as much
 // or more, the weight itself prefers the wrong pose, and no search can fix it.
 #pragma once
@@ -22,7 +22,7 @@
 namespace mcpose::analysis {
 
 struct MissWeight {
-  double estimate_weight = 0;  // the estimate's best full-resolution weight over the boxes
+  double estimate_weight = 0;  // the estimate's best weight over the boxes
   int estimate_box = -1;       // the box of that weight
   double truth_weight = 0;     // the aligned truth's, likewise
   int truth_box = -1;

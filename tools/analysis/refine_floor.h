@@ -2,13 +2,15 @@
 // lands to the ground truth when it starts at the ground truth, or a given distance from it.
 //
 // The alignment fits the model to the observed depth; where the dataset's ground-truth pose and
-// its depth disagree (annotation error, depth-to-colour registration), the aligned pose leaves
-// the truth by that disagreement. Its ADD-S to the truth is the precision no refinement of an
+// its depth disagree, the aligned pose leaves the truth by that disagreement (on YCB-Video a few
+// pixels across the viewing ray, the same through a video for one object and different for
+// the next: the annotation, not the camera). Its ADD-S to the truth is the precision no refinement of an
 // estimator in the right basin can beat on that frame as the truth measures it, and the ADD-S
 // AUC of the aligned poses is the AUC such an estimator would reach if every answer were in the
 // right basin.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -66,7 +68,8 @@ struct RefineFloorReport {
 };
 
 // Every ground-truth instance with a visible pixel of the real frames (not the synthetic ones,
-// rendered from their truth), in its visible-mask box grown by options.box_margin. `progress` (may be null) is called after each frame.
+// rendered from their truth), in its visible-mask box grown by options.box_margin. `progress`
+// (may be null) is called after each frame.
 StatusOr<RefineFloorReport> AnalyzeRefineFloor(const Dataset& dataset, const RefineFloorOptions& options,
                                                void (*progress)(int done, int total) = nullptr);
 
