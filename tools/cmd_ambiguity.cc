@@ -20,15 +20,10 @@ struct AmbiguityArgs {
   analysis::AmbiguityOptions options;
 };
 
-void Progress(int done, int total) {
-  std::fprintf(stderr, "\rframes %d/%d", done, total);
-  if (done == total) std::fprintf(stderr, "\n");
-}
-
 Status RunAmbiguity(const AmbiguityArgs& a) {
   if (!a.json.empty()) MCPOSE_RETURN_IF_ERROR(CheckWritable(a.json));
   MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<Dataset> dataset, Dataset::Open(a.dataset, a.split));
-  MCPOSE_ASSIGN_OR_RETURN(analysis::AmbiguityReport report, analysis::AnalyzeDataset(*dataset, a.options, &Progress));
+  MCPOSE_ASSIGN_OR_RETURN(analysis::AmbiguityReport report, analysis::AnalyzeDataset(*dataset, a.options, &PrintFrameProgress));
   std::printf("Depth-equivalent poses of each ground-truth instance (turns of %.0f deg about the model axes, with\n"
               "180 deg flips; equivalent = renders agree within %.1f mm on >= %.0f%% of the unoccluded pixels).\n"
               "ceiling: expected ADD(-S) < %.0f cm of an estimator that sees only depth and picks at random\n"

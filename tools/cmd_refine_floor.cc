@@ -23,11 +23,6 @@ struct RefineFloorArgs {
   analysis::RefineFloorOptions floor;
 };
 
-void Progress(int done, int total) {
-  std::fprintf(stderr, "\rframes %d/%d", done, total);
-  if (done == total) std::fprintf(stderr, "\n");
-}
-
 nlohmann::json RowJson(const analysis::RefineFloorReport::Row& r) {
   return {{"obj_id", r.obj_id},
           {"name", r.name},
@@ -46,7 +41,7 @@ Status RunRefineFloor(RefineFloorArgs& a) {
   if (!a.json.empty()) MCPOSE_RETURN_IF_ERROR(CheckWritable(a.json));
   MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<Dataset> dataset, Dataset::Open(a.dataset, a.split));
   MCPOSE_ASSIGN_OR_RETURN(analysis::RefineFloorReport report,
-                          analysis::AnalyzeRefineFloor(*dataset, a.floor, &Progress));
+                          analysis::AnalyzeRefineFloor(*dataset, a.floor, &PrintFrameProgress));
   std::printf("Depth alignment (%d steps, Tukey %.1f mm, pairs within %.0f mm) of each ground-truth pose, started\n"
               "%.1f mm and %.1f deg from it, in its visible-mask box grown by %.0f%% per side: ADD-S of the\n"
               "aligned pose to the truth (the truth and the depth disagree by this much), and the ADD-S AUC\n"
