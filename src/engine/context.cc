@@ -14,41 +14,43 @@ Context::Context(const EstimatorOptions& options, const Context& caches_from) : 
   caches_ = caches_from.caches_;
 }
 
+namespace {
+
+// The entry of `cache` under `key`, built by `build` (outside the lock: a mesh's chain or grid
+// takes long) on first use; an entry built twice at once is the same, and the first is kept.
+template <typename T, typename Build>
+std::shared_ptr<const T> Cached(std::mutex& mutex, std::map<uint64_t, std::shared_ptr<const T>>& cache, uint64_t key,
+                                Build build) {
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (auto it = cache.find(key); it != cache.end()) return it->second;
+  }
+  std::shared_ptr<const T> built = build();
+  std::lock_guard<std::mutex> lock(mutex);
+  return cache.emplace(key, std::move(built)).first->second;
+}
+
+}  // namespace
+
 std::shared_ptr<const render::LodChain> Context::Lod(const Mesh& mesh) {
   if (!(options_.engine.lod_error_px > 0)) return nullptr;
-  const uint64_t key = render::MeshFingerprint(mesh);
-  {
-    std::lock_guard<std::mutex> lock(caches_->mutex);
-    if (auto it = caches_->lod.find(key); it != caches_->lod.end()) return it->second;
-  }
-  auto built = std::make_shared<const render::LodChain>(render::LodChain::Build(
-      mesh, options_.engine.lod_unbiased ? render::LodVertices::kUnbiased : render::LodVertices::kKept));
-  std::lock_guard<std::mutex> lock(caches_->mutex);
-  return caches_->lod.emplace(key, std::move(built)).first->second;
+  return Cached(caches_->mutex, caches_->lod, render::MeshFingerprint(mesh), [&] {
+    return std::make_shared<const render::LodChain>(render::LodChain::Build(
+        mesh, options_.engine.lod_unbiased ? render::LodVertices::kUnbiased : render::LodVertices::kKept));
+  });
 }
 
 std::shared_ptr<const appearance::ColourGrid> Context::Colour(const Mesh& mesh) {
   if (!options_.appearance.enabled || mesh.appearance.empty()) return nullptr;
   const uint64_t key = render::MeshFingerprint(mesh) ^ (appearance::AppearanceFingerprint(mesh.appearance) * 31);
-  {
-    std::lock_guard<std::mutex> lock(caches_->mutex);
-    if (auto it = caches_->colour.find(key); it != caches_->colour.end()) return it->second;
-  }
-  std::shared_ptr<const appearance::ColourGrid> built = appearance::ColourGrid::Build(mesh);
-  std::lock_guard<std::mutex> lock(caches_->mutex);
-  return caches_->colour.emplace(key, std::move(built)).first->second;
+  return Cached(caches_->mutex, caches_->colour, key, [&] { return appearance::ColourGrid::Build(mesh); });
 }
 
 std::shared_ptr<const std::vector<Eigen::Vector3d>> Context::Extremes(const Mesh& mesh) {
   if (!(options_.weight.box_fit > 0)) return nullptr;
-  const uint64_t key = render::MeshFingerprint(mesh);
-  {
-    std::lock_guard<std::mutex> lock(caches_->mutex);
-    if (auto it = caches_->extremes.find(key); it != caches_->extremes.end()) return it->second;
-  }
-  auto built = std::make_shared<const std::vector<Eigen::Vector3d>>(score::ExtremePoints(mesh));
-  std::lock_guard<std::mutex> lock(caches_->mutex);
-  return caches_->extremes.emplace(key, std::move(built)).first->second;
+  return Cached(caches_->mutex, caches_->extremes, render::MeshFingerprint(mesh), [&] {
+    return std::make_shared<const std::vector<Eigen::Vector3d>>(score::ExtremePoints(mesh));
+  });
 }
 
 void Context::PrepareMeshes(std::span<const Mesh* const> meshes) {
