@@ -8,6 +8,8 @@
 #include <limits>
 #include <mutex>
 #include <set>
+#include <string_view>
+#include <cctype>
 #include <sstream>
 
 #include <spdlog/spdlog.h>
@@ -36,6 +38,15 @@ class MaterialsBesideObj : public tinyobj::MaterialReader {
   std::string dir_;
 };
 
+// "nan", "inf", "infinity" in any case, with an optional sign: what printf and Python write for
+// values that are not finite.
+bool IsNonFiniteSpelling(std::string_view token) {
+  if (!token.empty() && (token[0] == '+' || token[0] == '-')) token.remove_prefix(1);
+  std::string lower(token);
+  for (char& ch : lower) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  return lower == "nan" || lower == "inf" || lower == "infinity" || lower.starts_with("nan(");
+}
+
 // One warning per file and problem, however often the model is read.
 void WarnOnce(const std::string& message) {
   static std::mutex mutex;
@@ -48,7 +59,11 @@ void WarnOnce(const std::string& message) {
 // letters read as 0, an unknown statement is skipped, an index beyond int overflows), so the
 // text is checked line by line first: known statements only, each with the right count of
 // numbers, face corners of 1-based (or negative, relative) indices that fit in an int.
-Status CheckObjText(const std::string& path, std::string_view text) {
+// A normal that is not a number (`vn nan nan nan`, as some published scans have) is harmless:
+// mcpose renders depth and colour without normals. Such normals are counted into
+// *bad_normals, not refused.
+Status CheckObjText(const std::string& path, std::string_view text, int* bad_normals) {
+  *bad_normals = 0;
   const std::vector<std::string_view> lines = SplitLines(text);
   for (size_t i = 0; i < lines.size(); ++i) {
     const std::string_view line = Trim(lines[i]);
@@ -73,7 +88,16 @@ Status CheckObjText(const std::string& path, std::string_view text) {
     } else if (keyword == "vt") {
       if (n < 1 || n > 3 || !all_numbers()) return bad("expected 'vt u [v [w]]' (finite numbers)");
     } else if (keyword == "vn") {
-      if (n != 3 || !all_numbers()) return bad("expected 'vn x y z' (finite numbers)");
+      if (n != 3) return bad("expected 'vn x y z' (finite numbers)");
+      if (!all_numbers()) {
+        // NaN or infinite, spelled as C and Python print them: harmless. Anything else is not a number.
+        for (size_t k = 1; k < tokens.size(); ++k) {
+          double v = 0;
+          if (!ParseDouble(tokens[k], &v) && !IsNonFiniteSpelling(tokens[k]))
+            return bad("expected 'vn x y z' (finite numbers)");
+        }
+        ++*bad_normals;
+      }
     } else if (keyword == "f" || keyword == "l" || keyword == "p") {
       if (n < 1) return bad("expected vertex indices");
       for (size_t k = 1; k < tokens.size(); ++k) {
@@ -99,7 +123,8 @@ Status CheckObjText(const std::string& path, std::string_view text) {
 
 StatusOr<Mesh> ParseObj(const std::string& path, const std::string& text,
                         double file_units_per_metre) {
-  MCPOSE_RETURN_IF_ERROR(CheckObjText(path, text));
+  int bad_normals = 0;
+  MCPOSE_RETURN_IF_ERROR(CheckObjText(path, text, &bad_normals));
   // Parse with tinyobjloader, keeping polygons as they are (no triangulation).
   tinyobj::attrib_t attrib;
   std::vector<tinyobj::shape_t> shapes;
@@ -194,6 +219,10 @@ StatusOr<Mesh> ParseObj(const std::string& path, const std::string& text,
   }
   MCPOSE_RETURN_IF_ERROR(mesh.Validate(path));
   MCPOSE_RETURN_IF_ERROR(CheckMeshCoordinates(path, mesh));
+  if (bad_normals > 0) {
+    WarnOnce(path + ": " + std::to_string(bad_normals) + (bad_normals == 1 ? " normal is" : " normals are") +
+             " not a number (vn nan); normals are not used, read anyway");
+  }
   return mesh;
 }
 

@@ -6,6 +6,10 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <sstream>
+
+#include <spdlog/sinks/ostream_sink.h>
+#include <spdlog/spdlog.h>
 
 #include "io/ply_io.h"
 #include "io/ycbv_names.h"
@@ -78,6 +82,61 @@ TEST(ObjIoTest, BadInput) {
   mesh = io::ReadObjMesh(path);
   EXPECT_EQ(mesh.status().code(), StatusCode::kNotFound);
   EXPECT_NE(mesh.status().message().find(path), std::string::npos);
+}
+
+// What spdlog's default logger says while `f` runs.
+template <typename F>
+std::string Warnings(F&& f) {
+  std::ostringstream out;
+  auto sink = std::make_shared<spdlog::sinks::ostream_sink_mt>(out);
+  auto previous = spdlog::default_logger();
+  spdlog::set_default_logger(std::make_shared<spdlog::logger>("test", sink));
+  f();
+  spdlog::set_default_logger(previous);
+  return out.str();
+}
+
+size_t Count(const std::string& text, const std::string& what) {
+  size_t n = 0;
+  for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+// Published scans carry normals that are not numbers (`vn nan nan nan`); normals are not used,
+// so the mesh is read, with one warning naming the file and the count, however often it is read.
+TEST(ObjIoTest, NormalsThatAreNotNumbersAreReadWithOneWarning) {
+  const std::string path = WriteText("obj_nan_normals",
+                                     "v 0 0 0\nv 1 0 0\nv 0 1 0\n"
+                                     "vn nan nan nan\nvn 0 0 1\nvn -NaN inf -inf\n"
+                                     "f 1//1 2//2 3//3\n");
+  std::string said = Warnings([&] {
+    for (int k = 0; k < 3; ++k) {
+      StatusOr<Mesh> mesh = io::ReadObjMesh(path);
+      ASSERT_TRUE(mesh.ok()) << mesh.status().ToString();
+      EXPECT_EQ(mesh->triangles.size(), 1u);
+    }
+  });
+  EXPECT_EQ(Count(said, path + ": 2 normals are not a number"), 1u) << said;
+  // Words that are not numbers stay errors, in normals as anywhere.
+  const std::string bad = WriteText("obj_word_normal", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn x 0 1\nf 1 2 3\n");
+  StatusOr<Mesh> mesh = io::ReadObjMesh(bad);
+  ASSERT_FALSE(mesh.ok());
+  EXPECT_NE(mesh.status().message().find(bad + ": line 4"), std::string::npos) << mesh.status().message();
+}
+
+// The three published scans of ycbv_textured that have such a normal load, each with its warning.
+TEST(ObjIoTest, TexturedScansWithNanNormalsLoad) {
+  const std::string models = testing::DataDir() + "/ycbv_textured/models";
+  if (!std::filesystem::exists(models)) GTEST_SKIP() << "no " << models;
+  for (const char* name : {"007_tuna_fish_can", "025_mug", "051_large_clamp"}) {
+    const std::string path = models + "/" + name + "/textured_simple.obj";
+    const std::string said = Warnings([&] {
+      StatusOr<Mesh> mesh = io::ReadObjMesh(path);
+      ASSERT_TRUE(mesh.ok()) << mesh.status().ToString();
+      EXPECT_TRUE(mesh->appearance.has_texture()) << path;
+    });
+    EXPECT_EQ(Count(said, path + ": 1 normal is not a number"), 1u) << said;
+  }
 }
 
 // The native OBJ (metres, 6 decimals) and the BOP PLY (mm, 4 decimals) of the same model hold the
