@@ -599,6 +599,70 @@ TEST(Cli, MissesTellsSearchFromWeightFailures) {
   }
 }
 
+// Relight: a YCB-Video dataset whose colour images are transformed and whose other files are
+// links to the original; written whole or not at all; the result loads and estimates.
+TEST(Cli, RelightWritesATransformedDatasetOrNothing) {
+  const fs::path dir = testing::TempDir("relight");
+  const fs::path src = testing::MakeYcbvCopy("relight_src");
+  const fs::path out = dir / "relit";
+  const CliResult r = RunTools("relight --dataset " + src.string() + " --out " + out.string() +
+                                   " --transform white-balance:1.3,1,0.7",
+                               dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::is_symlink(out / "classes.txt"));
+  EXPECT_TRUE(fs::is_symlink(out / "data/0049/000001-depth.png"));
+  ASSERT_TRUE(fs::is_regular_file(out / "data/0049/000001-color.png"));
+  EXPECT_FALSE(fs::is_symlink(out / "data/0049/000001-color.png"));
+  auto before = io::ReadColourPng((src / "data/0049/000001-color.png").string());
+  auto after = io::ReadColourPng((out / "data/0049/000001-color.png").string());
+  ASSERT_TRUE(before.ok() && after.ok());
+  ASSERT_EQ(before->rgba.size(), after->rgba.size());
+  int64_t red = 0, blue = 0;
+  for (size_t i = 0; i < before->rgba.size(); i += 4)
+    red += after->rgba[i] - before->rgba[i], blue += after->rgba[i + 2] - before->rgba[i + 2];
+  EXPECT_GT(red, 0);
+  EXPECT_LT(blue, 0);
+  auto ds = Dataset::Open(out.string());
+  ASSERT_TRUE(ds.ok()) << ds.status().ToString();
+  EXPECT_EQ((*ds)->Frames().size(), 1u);
+
+  for (const auto& [args, message] : std::vector<std::pair<std::string, std::string>>{
+           {" --out " + out.string() + " --transform gamma:2", "already exists"},
+           {" --out " + (dir / "b").string() + " --transform gamma:0", "'gamma:0'"},
+           {" --out " + (dir / "c").string() + " --transform sepia", "unknown transform 'sepia'"},
+           {" --out " + (dir / "no/d").string() + " --transform gamma:2", "does not exist"}}) {
+    const CliResult b = RunTools("relight --dataset " + src.string() + args, dir);
+    EXPECT_NE(b.exit_code, 0) << args;
+    EXPECT_NE(b.err.find(message), std::string::npos) << args << ": " << b.err;
+  }
+  EXPECT_FALSE(fs::exists(dir / "b"));
+  EXPECT_FALSE(fs::exists(dir / "c"));
+  const CliResult bop = RunTools("relight --dataset " + testing::BopDir() + " --out " + (dir / "e").string() +
+                                     " --transform gamma:2",
+                                 dir);
+  EXPECT_NE(bop.exit_code, 0);
+  EXPECT_NE(bop.err.find("not a YCB-Video dataset"), std::string::npos) << bop.err;
+  for (const auto& e : fs::directory_iterator(dir))
+    EXPECT_EQ(e.path().filename().string().find(".relight-"), std::string::npos) << "left behind: " << e.path();
+}
+
+// Twin margins on the key frame: a table per object, JSON per instance; the truth's weight
+// margins are finite; an answer far from the truth is listed with its candidates' reach.
+TEST(Cli, TwinMarginOnTheKeyFrame) {
+  const fs::path dir = testing::TempDir("twin_margin");
+  const fs::path src = testing::MakeYcbvCopy("twin_margin_src");
+  const fs::path json = dir / "m.json";
+  const CliResult r = RunTools("twin-margin --dataset " + src.string() + " --json " + json.string(), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("\nALL "), std::string::npos) << r.out;
+  const nlohmann::json doc = nlohmann::json::parse(ReadText(json));
+  ASSERT_EQ(doc["instances"].size(), 4u);
+  for (const auto& i : doc["instances"]) EXPECT_TRUE(std::isfinite(i["margin"].get<double>())) << i.dump();
+  const CliResult bad = RunTools("twin-margin --dataset " + src.string() + " --right-mm 50 --wrong-mm 10", dir);
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_NE(bad.err.find("right_m <= wrong_m"), std::string::npos) << bad.err;
+}
+
 TEST(Cli, HelpOnEveryCommand) {
   const fs::path dir = testing::TempDir("help");
   for (const char* cmd : {"", "estimate ", "detections-from-gt ", "eval ", "bench "}) {
@@ -606,7 +670,7 @@ TEST(Cli, HelpOnEveryCommand) {
     EXPECT_EQ(r.exit_code, 0) << cmd;
     EXPECT_NE(r.out.find("--"), std::string::npos) << cmd;
   }
-  for (const char* cmd : {"", "ambiguity ", "turn-profile ", "refine-floor ", "misses "}) {
+  for (const char* cmd : {"", "ambiguity ", "turn-profile ", "refine-floor ", "misses ", "relight ", "twin-margin "}) {
     const CliResult r = RunTools(std::string(cmd) + "--help", dir);
     EXPECT_EQ(r.exit_code, 0) << cmd;
     EXPECT_NE(r.out.find("--"), std::string::npos) << cmd;

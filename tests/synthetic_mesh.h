@@ -2,7 +2,9 @@
 // and a bumpy closed blob.
 #pragma once
 
+#include <array>
 #include <cmath>
+#include <utility>
 #include <cstdint>
 
 #include "mcpose/mesh.h"
@@ -17,6 +19,34 @@ inline void AddBox(Mesh* m, Eigen::Vector3f lo, Eigen::Vector3f hi) {
   const uint32_t f[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
                              {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
   for (const auto& t : f) m->triangles.push_back({base + t[0], base + t[1], base + t[2]});
+}
+
+// The box [lo, hi] with each face a lattice of n x n squares of its own vertices, coloured by
+// `colour_of(face, vertex)` (vertex colours; faces 0-5: -x, +x, -y, +y, -z, +z): a box with a
+// colour pattern the colour grid can hold.
+template <typename ColourOf>
+inline Mesh LatticeBox(const Eigen::Vector3f& lo, const Eigen::Vector3f& hi, int n, ColourOf colour_of) {
+  Mesh box;
+  for (int f = 0; f < 6; ++f) {
+    const int a = f / 2, b = (a + 1) % 3, c = (a + 2) % 3;
+    const uint32_t base = static_cast<uint32_t>(box.vertices_m.size());
+    for (int j = 0; j <= n; ++j)
+      for (int i = 0; i <= n; ++i) {
+        Eigen::Vector3f p;
+        p[a] = f % 2 ? hi[a] : lo[a];
+        p[b] = lo[b] + (hi[b] - lo[b]) * i / n, p[c] = lo[c] + (hi[c] - lo[c]) * j / n;
+        box.vertices_m.push_back(p);
+        box.appearance.vertex_colours.push_back(colour_of(f, p));
+      }
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const uint32_t v = base + j * (n + 1) + i;
+        std::array<uint32_t, 3> t0 = {v, v + 1, v + n + 2}, t1 = {v, v + n + 2, v + n + 1};
+        if (f % 2 == 0) std::swap(t0[1], t0[2]), std::swap(t1[1], t1[2]);
+        box.triangles.push_back(t0), box.triangles.push_back(t1);
+      }
+  }
+  return box;
 }
 
 // A closed, finely tessellated ellipsoid-ish blob (outward, counter-clockwise), metres.

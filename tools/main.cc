@@ -11,6 +11,8 @@ int main(int argc, char** argv) {
   mcpose::tools::AddTurnProfileCommand(app, &status);
   mcpose::tools::AddRefineFloorCommand(app, &status);
   mcpose::tools::AddMissesCommand(app, &status);
+  mcpose::tools::AddRelightCommand(app, &status);
+  mcpose::tools::AddTwinMarginCommand(app, &status);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

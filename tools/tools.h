@@ -19,5 +19,7 @@ void AddAmbiguityCommand(CLI::App& app, Status* status);
 void AddTurnProfileCommand(CLI::App& app, Status* status);
 void AddRefineFloorCommand(CLI::App& app, Status* status);
 void AddMissesCommand(CLI::App& app, Status* status);
+void AddRelightCommand(CLI::App& app, Status* status);
+void AddTwinMarginCommand(CLI::App& app, Status* status);
 
 }  // namespace mcpose::tools

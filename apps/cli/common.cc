@@ -93,6 +93,14 @@ void AddEstimatorFlags(CLI::App* cmd, unsigned groups, EstimatorFlags* f) {
         ->capture_default_str();
     cmd->add_option("--colour-step", o.appearance.pixel_step,
                     "The colour test reads every n-th pixel of each box's grid in x and y, 1 to 4")->capture_default_str();
+    cmd->add_option("--colour-smooth", o.appearance.smooth_radius,
+                    "Each observed colour tested is the mean of the (2 r + 1)^2 pixels around it, r 0 to 3; 0: the "
+                    "pixel alone")
+        ->capture_default_str();
+    cmd->add_option("--colour-trust-pixels", o.appearance.trust_pixels,
+                    "Colour seen on n pixels counts n / (n + this) of its full say; 0: full say from --colour-min-pixels "
+                    "on")
+        ->capture_default_str();
     cmd->add_option("--colour-min-pixels", o.appearance.min_pixels,
                     "Fewer depth inliers of known colour than this: the neutral A = 0.5")->capture_default_str();
   }
@@ -161,15 +169,9 @@ Status EstimatorFlags::Finish() {
   } else {
     return InvalidArgument("--refine must be on or off, got '" + refine + "'");
   }
-  if (colour_space == "rgb") {
-    o.appearance.space = AppearanceOptions::Space::kRgb;
-  } else if (colour_space == "chroma") {
-    o.appearance.space = AppearanceOptions::Space::kChroma;
-  } else if (colour_space == "intensity-hue") {
-    o.appearance.space = AppearanceOptions::Space::kIntensityHue;
-  } else {
-    return InvalidArgument("--colour-space must be intensity-hue, chroma or rgb, got '" + colour_space + "'");
-  }
+  if (!AppearanceOptions::ParseSpace(colour_space, &o.appearance.space))
+    return InvalidArgument(std::string("--colour-space must be ") + AppearanceOptions::kSpaceChoices + ", got '" +
+                           colour_space + "'");
   if (!weights.empty()) {
     if (weights.size() != 3) return InvalidArgument("--weights takes three numbers a b c");
     o.weight.a = weights[0], o.weight.b = weights[1], o.weight.c = weights[2];

@@ -31,7 +31,7 @@ struct EstimatorFlags {
   std::string engine = RasterBackendName(EstimatorOptions{}.engine.backend);
   std::string inlier = "1d";
   std::string appearance = "on";
-  std::string colour_space = "intensity-hue";
+  std::string colour_space = AppearanceOptions::SpaceName(AppearanceOptions{}.space);
   std::string refine = "on";
   std::string simd_target;
   std::vector<double> weights;

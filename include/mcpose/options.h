@@ -142,6 +142,10 @@ struct AppearanceOptions {
   double weight = 0.3;
   // A sample with fewer depth inliers of known colour than this gets the neutral A = 0.5.
   int min_pixels = 20;
+  // Trust in the colour evidence: the agreement is drawn towards neutral by n / (n + trust_pixels),
+  // n the depth inliers of known colour tested (score/weight.h), so that colour seen on a few
+  // pixels cannot overrule the depth and the box. >= 0; 0: no such pull.
+  double trust_pixels = 30;
   // The colour test reads every pixel_step-th pixel of each box's grid in x and y (1 to 4):
   // a few hundred pixels tell the agreement as well as all of them, at a fraction of the cost.
   int pixel_step = 3;
@@ -154,6 +158,14 @@ struct AppearanceOptions {
   // kIntensityHue the intensity and two channels of the normalised colour.
   enum class Space { kRgb, kChroma, kIntensityHue };
   Space space = Space::kIntensityHue;
+  // "rgb", "chroma", "intensity-hue"; Parse: false for another name.
+  static const char* SpaceName(Space space);
+  static bool ParseSpace(const std::string& name, Space* space);
+  static constexpr const char* kSpaceChoices = "intensity-hue, chroma or rgb";
+  // The observed colour of each tested pixel is the mean of the (2 r + 1)^2 pixels around it,
+  // r = smooth_radius (0 to 3; 0: the pixel alone): sensor noise and compression artefacts
+  // average out, as they do in the model's colour grid, whose cells span a few millimetres.
+  int smooth_radius = 1;
   // Twin resolution, after the filter, for objects scored with colour: the best pose and its
   // depth twins (180-degree turns about the model axes through its bounding-box centre, each
   // also turned about the model's most distinct axis in steps of twin_step_deg) scored on every

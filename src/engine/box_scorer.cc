@@ -83,7 +83,8 @@ StatusOr<std::unique_ptr<BoxScorer>> BoxScorer::Create(Context& context, const I
     const render::PixelRect rect = ClipBox(d.x, d.y, d.w, d.h, K.width, K.height);
     const int stride = resolution == Resolution::kFull ? 1 : BoxStride(rect, opt.engine);
     s.observed_.push_back(score::DistributeBox(depth, K, rect, d.score, opt.weight.inlier, stride,
-                                               s.colour_ ? colour : nullptr, transform));
+                                               s.colour_ ? colour : nullptr, transform,
+                                               opt.appearance.smooth_radius));
   }
   // ---- Level of detail: per box, the coarsest mesh within the pixel error budget ----------
   if (resolution == Resolution::kEngine) s.lod_ = context.Lod(mesh);

@@ -18,6 +18,24 @@ bool IsFixedPoint(RasterBackend backend) {
   return backend == RasterBackend::kFixedPoint || backend == RasterBackend::kSimd;
 }
 
+const char* AppearanceOptions::SpaceName(Space space) {
+  switch (space) {
+    case Space::kRgb: return "rgb";
+    case Space::kChroma: return "chroma";
+    case Space::kIntensityHue: return "intensity-hue";
+  }
+  return "intensity-hue";
+}
+
+bool AppearanceOptions::ParseSpace(const std::string& name, Space* space) {
+  for (Space s : {Space::kRgb, Space::kChroma, Space::kIntensityHue})
+    if (name == SpaceName(s)) {
+      *space = s;
+      return true;
+    }
+  return false;
+}
+
 EngineOptions EngineOptions::Reference() {
   EngineOptions e;
   e.backend = RasterBackend::kScalar;
@@ -72,6 +90,10 @@ bool EstimatorOptions::IsValid(std::string* error) const {
   if (!(appearance.weight >= 0 && appearance.weight < 1)) return Fail(error, "appearance.weight must lie in [0, 1)");
   if (appearance.min_pixels < 2) return Fail(error, "appearance.min_pixels must be >= 2");
   if (appearance.pixel_step < 1 || appearance.pixel_step > 4) return Fail(error, "appearance.pixel_step must lie in [1, 4]");
+  if (!(appearance.trust_pixels >= 0 && appearance.trust_pixels <= 1e6))
+    return Fail(error, "appearance.trust_pixels must lie in [0, 1e6]");
+  if (appearance.smooth_radius < 0 || appearance.smooth_radius > 3)
+    return Fail(error, "appearance.smooth_radius must lie in [0, 3]");
   if (appearance.ramp_iterations < 0) return Fail(error, "appearance.ramp_iterations must be >= 0");
   {
     const double steps = 360.0 / appearance.twin_step_deg;

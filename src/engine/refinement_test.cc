@@ -77,6 +77,9 @@ TEST(Refinement, AnAlignmentThatLowersTheWeightIsRejected) {
   EstimatorOptions o;
   o.engine.threads = 1;
   o.appearance.weight = 0.9;
+  // Colour's full say, of each pixel alone: the rejection is tested, not the trust or smoothing.
+  o.appearance.trust_pixels = 0;
+  o.appearance.smooth_radius = 0;
   o.refine.accept_eps_m = 0;
   Context context(o);
   auto full = FullScorer(context, s, &shifted);

@@ -116,7 +116,7 @@ ObjectEstimate ResolveTwins(Context& context, BoxScorer& scorer, BoxScorer& full
     double best_colour = -1;
     for (size_t i = 0; i < poses.size(); ++i) {
       if (depth_weight[i] < best_depth - a.twin_depth_margin) continue;
-      const double colour = score::VisibleColourAgreement(counts[i], a.min_pixels);
+      const double colour = score::VisibleColourAgreement(counts[i], a);
       if (colour > best_colour) best_colour = colour, winner = i;
     }
   }

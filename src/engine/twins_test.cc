@@ -43,31 +43,9 @@ TEST(Twins, CandidatesTurnAboutTheBoxCentre) {
 // camera the same depth: with colour the estimator finds the right one in every run; without,
 // it cannot tell them apart and settles on a twin in some runs.
 TEST(Twins, ColourTellsABoxFromItsDepthTwins) {
-  Mesh box;
   const Eigen::Vector3f lo(-0.06f, -0.04f, -0.025f), hi(0.06f, 0.04f, 0.025f);
   const Rgba8 colours[6] = {{220, 40, 40, 255}, {40, 200, 40, 255}, {40, 40, 220, 255},
                             {220, 220, 40, 255}, {40, 200, 220, 255}, {200, 40, 200, 255}};
-  for (int f = 0; f < 6; ++f) {  // each face a lattice of its own vertices, one colour
-    const int a = f / 2, b = (a + 1) % 3, c = (a + 2) % 3, n = 8;
-    const uint32_t base = static_cast<uint32_t>(box.vertices_m.size());
-    for (int j = 0; j <= n; ++j)
-      for (int i = 0; i <= n; ++i) {
-        Eigen::Vector3f p;
-        p[a] = f % 2 ? hi[a] : lo[a];
-        p[b] = lo[b] + (hi[b] - lo[b]) * i / n, p[c] = lo[c] + (hi[c] - lo[c]) * j / n;
-        box.vertices_m.push_back(p);
-        box.appearance.vertex_colours.push_back(colours[f]);
-      }
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) {
-        const uint32_t v = base + j * (n + 1) + i;
-        std::array<uint32_t, 3> t0 = {v, v + 1, v + n + 2}, t1 = {v, v + n + 2, v + n + 1};
-        if (f % 2 == 0) std::swap(t0[1], t0[2]), std::swap(t1[1], t1[2]);
-        box.triangles.push_back(t0), box.triangles.push_back(t1);
-      }
-  }
-  ASSERT_TRUE(box.Validate("box").ok());
-  const SE3 T_gt(ExpSO3(Eigen::Vector3d(0.5, -0.4, 0.3)), Eigen::Vector3d(0.0, 0.01, 0.6));
   auto colour_of = [&](const Eigen::Vector3f& p) {
     // The face whose plane the point lies on (closest), its colour.
     int best = 0;
@@ -78,6 +56,9 @@ TEST(Twins, ColourTellsABoxFromItsDepthTwins) {
     }
     return colours[best];
   };
+  const Mesh box = testing::LatticeBox(lo, hi, 8, [&](int f, const Eigen::Vector3f&) { return colours[f]; });
+  ASSERT_TRUE(box.Validate("box").ok());
+  const SE3 T_gt(ExpSO3(Eigen::Vector3d(0.5, -0.4, 0.3)), Eigen::Vector3d(0.0, 0.01, 0.6));
   const testing::SyntheticFrame frame = testing::RenderFrame(box, T_gt, colour_of, 5);
   int x0 = 320, y0 = 240, x1 = 0, y1 = 0;
   for (int y = 0; y < 240; ++y)

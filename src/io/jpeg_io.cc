@@ -23,6 +23,10 @@ struct TjDeleter {
 
 StatusOr<ColourImage> ReadJpeg(const std::string& path) {
   MCPOSE_ASSIGN_OR_RETURN(std::string bytes, ReadFileToString(path));
+  return DecodeJpeg(bytes, path);
+}
+
+StatusOr<ColourImage> DecodeJpeg(std::string_view bytes, const std::string& path) {
   std::unique_ptr<void, TjDeleter> tj(tjInitDecompress());
   if (!tj) return Internal(path + ": cannot start the JPEG decoder");
   auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
@@ -55,6 +59,26 @@ StatusOr<ColourImage> ReadJpeg(const std::string& path) {
     return DataLoss(path + ": corrupt JPEG data (" + what + ")");
   }
   return image;
+}
+
+StatusOr<std::string> EncodeJpeg(const ColourImage& image, int quality) {
+  if (quality < 1 || quality > 100) return InvalidArgument("JPEG quality " + std::to_string(quality) + " is not in 1..100");
+  if (image.width <= 0 || image.height <= 0 || image.rgba.size() != 4 * static_cast<size_t>(image.width) * image.height)
+    return InvalidArgument("cannot encode an empty or inconsistent image as JPEG");
+  std::unique_ptr<void, TjDeleter> tj(tjInitCompress());
+  if (!tj) return Internal("cannot start the JPEG encoder");
+  unsigned char* out = nullptr;
+  unsigned long size = 0;
+  // 4:2:0 chroma subsampling, as cameras and most encoders write.
+  if (tjCompress2(tj.get(), image.rgba.data(), image.width, 0, image.height, TJPF_RGBA, &out, &size, TJSAMP_420,
+                  quality, 0) != 0) {
+    const std::string what = tjGetErrorStr2(tj.get());
+    tjFree(out);
+    return Internal("JPEG encoding failed (" + what + ")");
+  }
+  std::string bytes(reinterpret_cast<const char*>(out), size);
+  tjFree(out);
+  return bytes;
 }
 
 StatusOr<ColourImage> ReadColourImage(const std::string& path) {

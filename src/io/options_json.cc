@@ -36,10 +36,10 @@ nlohmann::json OptionsToJson(const EstimatorOptions& o) {
       {"appearance",
        {{"enabled", o.appearance.enabled}, {"weight", o.appearance.weight}, {"min_pixels", o.appearance.min_pixels},
         {"pixel_step", o.appearance.pixel_step},
+        {"smooth_radius", o.appearance.smooth_radius},
+        {"trust_pixels", o.appearance.trust_pixels},
         {"ramp_iterations", o.appearance.ramp_iterations},
-        {"space", o.appearance.space == AppearanceOptions::Space::kRgb      ? "rgb"
-                   : o.appearance.space == AppearanceOptions::Space::kChroma ? "chroma"
-                                                                             : "intensity-hue"},
+        {"space", AppearanceOptions::SpaceName(o.appearance.space)},
         {"resolve_twins", o.appearance.resolve_twins},
         {"twin_step_deg", o.appearance.twin_step_deg},
         {"twin_refine_iterations", o.appearance.twin_refine_iterations},

@@ -1,12 +1,15 @@
 #include "score/box_observation.h"
 
+#include <algorithm>
+#include <array>
+
 #include "core/check.h"
 
 namespace mcpose::score {
 
 BoxObservation DistributeBox(const DepthImage& depth, const Intrinsics& K, const render::PixelRect& rect,
                              double score, InlierMode mode, int stride, const ColourImage* colour,
-                             uint32_t (*transform)(uint32_t)) {
+                             uint32_t (*transform)(uint32_t), int smooth_radius) {
   MCPOSE_CHECK_GE(stride, 1);
   BoxObservation b;
   b.image_rect = rect;
@@ -28,18 +31,64 @@ BoxObservation DistributeBox(const DepthImage& depth, const Intrinsics& K, const
   }
   if (colour) {
     MCPOSE_CHECK(colour->width == depth.width && colour->height == depth.height);
-    b.observed_rgba.resize(b.observed.size());
-    for (int j = 0; j < gh; ++j)
-      for (int i = 0; i < gw; ++i) {
-        const uint8_t* p = colour->at(rect.x0 + i * stride, rect.y0 + j * stride);
-        const uint32_t rgba = uint32_t{p[0]} | (uint32_t{p[1]} << 8) | (uint32_t{p[2]} << 16) | (uint32_t{p[3]} << 24);
-        b.observed_rgba[static_cast<size_t>(j) * gw + i] = transform ? transform(rgba) : rgba;
-      }
+    b.observed_rgba = ObservedColour(*colour, rect, stride, smooth_radius, transform);
   }
   b.n_observed = CountObserved(b.observed);
   b.observed_or_nan = ObservedOrNaN(b.observed);
   if (mode == InlierMode::k3D) b.cloud = std::make_unique<ObservedCloud>(b.K_grid, b.rect, b.observed);
   return b;
+}
+
+std::vector<uint32_t> ObservedColour(const ColourImage& image, const render::PixelRect& rect, int stride,
+                                     int radius, uint32_t (*transform)(uint32_t)) {
+  MCPOSE_CHECK_GE(stride, 1);
+  MCPOSE_CHECK_GE(radius, 0);
+  MCPOSE_CHECK(rect.x0 >= 0 && rect.y0 >= 0 && rect.x1 <= image.width && rect.y1 <= image.height);
+  // ---- Saturation: per channel, the box's brightest value, where many pixels share it -----
+  std::array<int, 3> top{0, 0, 0};
+  std::array<int64_t, 3> at_top{0, 0, 0};
+  int64_t pixels = 0;
+  for (int y = rect.y0; y < rect.y1; ++y)
+    for (int x = rect.x0; x < rect.x1; ++x) {
+      const uint8_t* p = image.at(x, y);
+      if (p[3] == 0) continue;
+      ++pixels;
+      for (int c = 0; c < 3; ++c) {
+        if (p[c] > top[c]) top[c] = p[c], at_top[c] = 0;
+        if (p[c] == top[c]) ++at_top[c];
+      }
+    }
+  std::array<int, 3> clip{255, 255, 255};
+  for (int c = 0; c < 3; ++c)
+    if (top[c] >= 128 && at_top[c] > 1 && static_cast<double>(at_top[c]) >= kClippedShare * static_cast<double>(pixels))
+      clip[c] = top[c];
+
+  // ---- Each grid pixel: the mean of its neighbourhood, unknown if any of it is ------------
+  const int gw = (rect.width() + stride - 1) / stride, gh = (rect.height() + stride - 1) / stride;
+  std::vector<uint32_t> out(static_cast<size_t>(gw) * gh, 0u);
+  for (int j = 0; j < gh; ++j) {
+    const int y = rect.y0 + j * stride;
+    for (int i = 0; i < gw; ++i) {
+      const int x = rect.x0 + i * stride;
+      int sum[3] = {0, 0, 0}, n = 0;
+      bool known = true;
+      for (int yy = std::max(y - radius, 0); known && yy <= std::min(y + radius, image.height - 1); ++yy)
+        for (int xx = std::max(x - radius, 0); xx <= std::min(x + radius, image.width - 1); ++xx) {
+          const uint8_t* p = image.at(xx, yy);
+          if (p[3] == 0 || p[0] >= clip[0] || p[1] >= clip[1] || p[2] >= clip[2]) {
+            known = false;
+            break;
+          }
+          for (int c = 0; c < 3; ++c) sum[c] += p[c];
+          ++n;
+        }
+      if (!known) continue;
+      uint32_t rgba = 0xff000000u;
+      for (int c = 0; c < 3; ++c) rgba |= static_cast<uint32_t>((sum[c] + n / 2) / n) << (8 * c);
+      out[static_cast<size_t>(j) * gw + i] = transform ? transform(rgba) : rgba;
+    }
+  }
+  return out;
 }
 
 render::RasterParams BoxRasterParams(const BoxObservation& box, bool cull_backfaces) {

@@ -34,11 +34,22 @@ struct BoxObservation {
 };
 
 // The BoxObservation of `rect` (image pixels, inside the image) at pixel stride `stride` >= 1,
-// with the colour of `colour` (same size as `depth`) when it is given, each pixel passed
-// through `transform` (ChromaOf, IntensityHueOf) when that is given.
+// with the colour of `colour` (same size as `depth`) when it is given (ObservedColour), each
+// pixel passed through `transform` (ChromaOf, IntensityHueOf) when that is given.
 BoxObservation DistributeBox(const DepthImage& depth, const Intrinsics& K, const render::PixelRect& rect,
                              double score, InlierMode mode, int stride = 1, const ColourImage* colour = nullptr,
-                             uint32_t (*transform)(uint32_t) = nullptr);
+                             uint32_t (*transform)(uint32_t) = nullptr, int smooth_radius = 0);
+
+// The observed colour of a box's grid pixels (rect-sized, row-major, RGBA8 packed): each the
+// mean of the (2 smooth_radius + 1)^2 image pixels around it (cut at the image's edges), passed
+// through `transform` (may be null). Unknown (alpha 0) where one of those pixels has no colour
+// (alpha 0) or is clipped: a channel at 255, or at the box's brightest value of that channel when
+// that is at least 128 and shared by at least kClippedShare of the box's pixels (a sensor or a
+// tone curve saturated there, at whatever level): a clipped pixel's colour says little of the
+// surface's, and its hue is wrong.
+inline constexpr double kClippedShare = 0.005;
+std::vector<uint32_t> ObservedColour(const ColourImage& colour, const render::PixelRect& rect, int stride,
+                                     int smooth_radius, uint32_t (*transform)(uint32_t));
 
 // The raster-core parameters of a box: its grid projection and rect.
 render::RasterParams BoxRasterParams(const BoxObservation& box, bool cull_backfaces);

@@ -29,17 +29,25 @@ inline double Weight(const InlierCounts& n, double score, const WeightOptions& w
 // outweigh the object in plain view, and a pose floating in front of the observed surface (a
 // bowl turned upside down above the real one, whose rendered dome hides nothing) could outweigh
 // the real bowl half hidden by what lies in it.
-inline double VisibleColourAgreement(const InlierCounts& n, int min_pixels) {
+// It is drawn towards neutral also by how few pixels carry it, by n / (n + trust_pixels) for n
+// the depth inliers of known colour: a correlation over a few pixels is mostly noise, and must
+// not overrule the depth and the box (trust_pixels 0: no such pull).
+inline double VisibleColourAgreement(const InlierCounts& n, int min_pixels, double trust_pixels = 0) {
   const double a = ColourAgreement(n.colour, min_pixels);
   const double visible = n.rendered > 0 ? static_cast<double>(n.inliers) / n.rendered : 0.0;
-  return kNeutralAgreement + (a - kNeutralAgreement) * visible;
+  const double pixels = static_cast<double>(n.colour.n);
+  const double trust = trust_pixels > 0 ? pixels / (pixels + trust_pixels) : 1.0;
+  return kNeutralAgreement + (a - kNeutralAgreement) * visible * trust;
+}
+inline double VisibleColourAgreement(const InlierCounts& n, const AppearanceOptions& appearance) {
+  return VisibleColourAgreement(n, appearance.min_pixels, appearance.trust_pixels);
 }
 
 // w = (1 - d) (a N / N_b + b N / N_r + c score) + d A', d = appearance.weight.
 inline double WeightWithColour(const InlierCounts& n, double score, const WeightOptions& w,
                                const AppearanceOptions& appearance) {
   return (1 - appearance.weight) * Weight(n, score, w) +
-         appearance.weight * VisibleColourAgreement(n, appearance.min_pixels);
+         appearance.weight * VisibleColourAgreement(n, appearance);
 }
 
 }  // namespace mcpose::score

@@ -36,8 +36,13 @@ TEST(Weight, ColourAgreementIsDrawnToNeutralByTheShareOfDepthThatDisagrees) {
   EXPECT_DOUBLE_EQ(VisibleColourAgreement(InlierCounts{}, 20), kNeutralAgreement);
   AppearanceOptions a;
   a.weight = 0.3;
+  a.trust_pixels = 0;
   WeightOptions w;
   EXPECT_DOUBLE_EQ(WeightWithColour(c, 0.8, w, a), 0.7 * Weight(c, 0.8, w) + 0.3 * 0.8);
+  // Trusted by its pixel count: 60 pixels against trust_pixels 30 keep two thirds of the pull.
+  a.trust_pixels = 30;
+  EXPECT_DOUBLE_EQ(VisibleColourAgreement(c, a), 0.5 + 0.5 * 0.6 * 60.0 / 90.0);
+  EXPECT_DOUBLE_EQ(WeightWithColour(c, 0.8, w, a), 0.7 * Weight(c, 0.8, w) + 0.3 * (0.5 + 0.3 * 60.0 / 90.0));
 }
 
 }  // namespace
