@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 
 #include "core/check.h"
 
@@ -31,7 +32,7 @@ BoxObservation DistributeBox(const DepthImage& depth, const Intrinsics& K, const
   }
   if (colour) {
     MCPOSE_CHECK(colour->width == depth.width && colour->height == depth.height);
-    b.observed_rgba = ObservedColour(*colour, rect, stride, smooth_radius, transform);
+    b.observed_rgba = ObservedColour(*colour, &depth, rect, stride, smooth_radius, transform);
   }
   b.n_observed = CountObserved(b.observed);
   b.observed_or_nan = ObservedOrNaN(b.observed);
@@ -39,11 +40,15 @@ BoxObservation DistributeBox(const DepthImage& depth, const Intrinsics& K, const
   return b;
 }
 
-std::vector<uint32_t> ObservedColour(const ColourImage& image, const render::PixelRect& rect, int stride,
-                                     int radius, uint32_t (*transform)(uint32_t)) {
+std::vector<uint32_t> ObservedColour(const ColourImage& image, const DepthImage* depth, const render::PixelRect& rect,
+                                     int stride, int radius, uint32_t (*transform)(uint32_t)) {
   MCPOSE_CHECK_GE(stride, 1);
   MCPOSE_CHECK_GE(radius, 0);
   MCPOSE_CHECK(rect.x0 >= 0 && rect.y0 >= 0 && rect.x1 <= image.width && rect.y1 <= image.height);
+  MCPOSE_CHECK(!depth || (depth->width == image.width && depth->height == image.height));
+  const auto z_at = [depth, &image](int x, int y) {
+    return depth ? depth->depth_m[static_cast<size_t>(y) * image.width + x] : 1.f;
+  };
   // ---- Saturation: per channel, the box's brightest value, where many pixels share it -----
   std::array<int, 3> top{0, 0, 0};
   std::array<int64_t, 3> at_top{0, 0, 0};
@@ -72,8 +77,11 @@ std::vector<uint32_t> ObservedColour(const ColourImage& image, const render::Pix
       const int x = rect.x0 + i * stride;
       int sum[3] = {0, 0, 0}, n = 0;
       bool known = true;
-      for (int yy = std::max(y - radius, 0); known && yy <= std::min(y + radius, image.height - 1); ++yy)
-        for (int xx = std::max(x - radius, 0); xx <= std::min(x + radius, image.width - 1); ++xx) {
+      const float z = z_at(x, y);
+      const int r = z > 0.f ? radius : 0;
+      for (int yy = std::max(y - r, 0); known && yy <= std::min(y + r, image.height - 1); ++yy)
+        for (int xx = std::max(x - r, 0); xx <= std::min(x + r, image.width - 1); ++xx) {
+          if (r > 0 && !(std::fabs(z_at(xx, yy) - z) < kSameSurfaceM)) continue;  // another surface
           const uint8_t* p = image.at(xx, yy);
           if (p[3] == 0 || p[0] >= clip[0] || p[1] >= clip[1] || p[2] >= clip[2]) {
             known = false;

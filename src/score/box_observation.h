@@ -41,15 +41,18 @@ BoxObservation DistributeBox(const DepthImage& depth, const Intrinsics& K, const
                              uint32_t (*transform)(uint32_t) = nullptr, int smooth_radius = 0);
 
 // The observed colour of a box's grid pixels (rect-sized, row-major, RGBA8 packed): each the
-// mean of the (2 smooth_radius + 1)^2 image pixels around it (cut at the image's edges), passed
-// through `transform` (may be null). Unknown (alpha 0) where one of those pixels has no colour
-// (alpha 0) or is clipped: a channel at 255, or at the box's brightest value of that channel when
-// that is at least 128 and shared by at least kClippedShare of the box's pixels (a sensor or a
-// tone curve saturated there, at whatever level): a clipped pixel's colour says little of the
-// surface's, and its hue is wrong.
+// mean of the image pixels within smooth_radius of it (cut at the image's edges) that lie on the
+// same surface, their observed depth within kSameSurfaceM of its own (all of them without
+// `depth`; the pixel alone where it has no depth), passed through `transform` (may be null): the
+// edge of an object takes no colour from what lies behind it. Unknown (alpha 0) where one of
+// those pixels has no colour (alpha 0) or is clipped: a channel at 255, or at the box's brightest
+// value of that channel when that is at least 128 and shared by at least kClippedShare of the
+// box's pixels (a sensor or a tone curve saturated there, at whatever level): a clipped pixel's
+// colour says little of the surface's, and its hue is wrong.
 inline constexpr double kClippedShare = 0.005;
-std::vector<uint32_t> ObservedColour(const ColourImage& colour, const render::PixelRect& rect, int stride,
-                                     int smooth_radius, uint32_t (*transform)(uint32_t));
+inline constexpr float kSameSurfaceM = 0.01f;
+std::vector<uint32_t> ObservedColour(const ColourImage& colour, const DepthImage* depth, const render::PixelRect& rect,
+                                     int stride, int smooth_radius, uint32_t (*transform)(uint32_t));
 
 // The raster-core parameters of a box: its grid projection and rect.
 render::RasterParams BoxRasterParams(const BoxObservation& box, bool cull_backfaces);
