@@ -7,7 +7,7 @@ if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 PACKAGES=(
   build-essential cmake ninja-build pkg-config
   libpng-dev zlib1g-dev libturbojpeg0-dev libmatio-dev libtinyobjloader-dev nlohmann-json3-dev libcli11-dev
-  libspdlog-dev libfmt-dev libeigen3-dev libnanoflann-dev libmeshoptimizer-dev
+  libspdlog-dev libfmt-dev libeigen3-dev libnanoflann-dev libmeshoptimizer-dev libqhull-dev
   libhwy-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libembree-dev libosmesa6-dev

@@ -97,6 +97,9 @@ void AddEstimatorFlags(CLI::App* cmd, unsigned groups, EstimatorFlags* f) {
                     "Each observed colour tested is the mean of the (2 r + 1)^2 pixels around it, r 0 to 3; 0: the "
                     "pixel alone")
         ->capture_default_str();
+    cmd->add_flag("--colour-drop-clipped,!--no-colour-drop-clipped", o.appearance.drop_clipped,
+                  "Leave out observed pixels with a clipped channel (at 255, or at a level many of the box's pixels "
+                  "share)");
     cmd->add_option("--colour-trust-pixels", o.appearance.trust_pixels,
                     "Colour seen on n pixels counts n / (n + this) of its full say; 0: full say from --colour-min-pixels "
                     "on")

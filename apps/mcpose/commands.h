@@ -15,5 +15,6 @@ void AddBenchCommand(CLI::App& app, Status* status);
 void AddCaptureCommand(CLI::App& app, Status* status);
 void AddTrackCommand(CLI::App& app, Status* status);
 void AddReportCommand(CLI::App& app, Status* status);
+void AddSynthCommand(CLI::App& app, Status* status);
 
 }  // namespace mcpose::cli

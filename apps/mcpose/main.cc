@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   mcpose::cli::AddCaptureCommand(app, &status);
   mcpose::cli::AddTrackCommand(app, &status);
   mcpose::cli::AddReportCommand(app, &status);
+  mcpose::cli::AddSynthCommand(app, &status);
   spdlog::set_pattern("[%H:%M:%S] %v");
   try {
     app.parse(argc, argv);

@@ -84,7 +84,7 @@ StatusOr<std::unique_ptr<BoxScorer>> BoxScorer::Create(Context& context, const I
     const int stride = resolution == Resolution::kFull ? 1 : BoxStride(rect, opt.engine);
     s.observed_.push_back(score::DistributeBox(depth, K, rect, d.score, opt.weight.inlier, stride,
                                                s.colour_ ? colour : nullptr, transform,
-                                               opt.appearance.smooth_radius));
+                                               opt.appearance.smooth_radius, opt.appearance.drop_clipped));
   }
   // ---- Level of detail: per box, the coarsest mesh within the pixel error budget ----------
   if (resolution == Resolution::kEngine) s.lod_ = context.Lod(mesh);

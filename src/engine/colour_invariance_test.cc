@@ -150,10 +150,11 @@ TEST(ColourTrust, ColourOnFewPixelsCannotOverruleDepth) {
     many.colour.mm[c] *= 100, many.colour.oo[c] *= 100, many.colour.mo[c] *= 100;
   }
   EXPECT_GT(score::WeightWithColour(many, 0.9, w, untrusting), score::WeightWithColour(plain, 0.9, w, untrusting));
-  // The default trust: colour on 25 pixels has less than half its full say.
-  const AppearanceOptions defaults;
-  score::InlierCounts few = coloured;
-  EXPECT_LT((score::VisibleColourAgreement(few, defaults) - 0.5) / (score::VisibleColourAgreement(few, trusting) - 0.5),
+  // With trust 30, colour on 25 pixels has less than half its full say.
+  AppearanceOptions some;
+  some.trust_pixels = 30;
+  EXPECT_LT((score::VisibleColourAgreement(coloured, some) - 0.5) /
+                (score::VisibleColourAgreement(coloured, trusting) - 0.5),
             0.5);
 }
 

@@ -13,6 +13,7 @@
 #include "io/io_util.h"
 #include "io/jpeg_io.h"
 #include "io/json_util.h"
+#include "io/obj_io.h"
 #include "io/ply_io.h"
 #include "io/png_io.h"
 #include "io/ycbv_names.h"
@@ -311,10 +312,22 @@ class BopDataset final : public Dataset {
 
   StatusOr<Mesh> LoadMesh(int obj_id) const override {
     MCPOSE_RETURN_IF_ERROR(CheckObject(obj_id));
-    return ReadPlyMesh(ModelPath(obj_id), kMmPerMetre);
+    const std::string path = ModelPath(obj_id);
+    if (path.ends_with(".obj")) return ReadObjMesh(path);
+    return ReadPlyMesh(path, kMmPerMetre);
   }
 
-  std::string ModelPath(int obj_id) const override { return models_dir_ + "/obj_" + Id6(obj_id) + ".ply"; }
+  // models_dir/obj_NNNNNN.ply; for a dataset of the YCB-Video objects whose models folder is in
+  // the YCB-Video layout instead (their textured models, say), models_dir/<name>/textured_simple.obj.
+  std::string ModelPath(int obj_id) const override {
+    const std::string ply = models_dir_ + "/obj_" + Id6(obj_id) + ".ply";
+    if (ycbv_ids_ && obj_id >= 1 && obj_id <= static_cast<int>(YcbvClassNames().size())) {
+      std::error_code ec;
+      const std::string obj = models_dir_ + "/" + YcbvClassNames()[obj_id - 1] + "/textured_simple.obj";
+      if (!fs::exists(ply, ec) && fs::is_regular_file(obj, ec)) return obj;
+    }
+    return ply;
+  }
   const std::string& models_dir() const override { return models_dir_; }
 
   StatusOr<std::vector<Eigen::Vector3f>> LoadEvalPoints(int obj_id) const override {

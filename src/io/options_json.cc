@@ -37,6 +37,7 @@ nlohmann::json OptionsToJson(const EstimatorOptions& o) {
        {{"enabled", o.appearance.enabled}, {"weight", o.appearance.weight}, {"min_pixels", o.appearance.min_pixels},
         {"pixel_step", o.appearance.pixel_step},
         {"smooth_radius", o.appearance.smooth_radius},
+        {"drop_clipped", o.appearance.drop_clipped},
         {"trust_pixels", o.appearance.trust_pixels},
         {"ramp_iterations", o.appearance.ramp_iterations},
         {"space", AppearanceOptions::SpaceName(o.appearance.space)},

@@ -10,7 +10,7 @@ namespace mcpose::score {
 
 BoxObservation DistributeBox(const DepthImage& depth, const Intrinsics& K, const render::PixelRect& rect,
                              double score, InlierMode mode, int stride, const ColourImage* colour,
-                             uint32_t (*transform)(uint32_t), int smooth_radius) {
+                             uint32_t (*transform)(uint32_t), int smooth_radius, bool drop_clipped) {
   MCPOSE_CHECK_GE(stride, 1);
   BoxObservation b;
   b.image_rect = rect;
@@ -32,7 +32,7 @@ BoxObservation DistributeBox(const DepthImage& depth, const Intrinsics& K, const
   }
   if (colour) {
     MCPOSE_CHECK(colour->width == depth.width && colour->height == depth.height);
-    b.observed_rgba = ObservedColour(*colour, &depth, rect, stride, smooth_radius, transform);
+    b.observed_rgba = ObservedColour(*colour, &depth, rect, stride, smooth_radius, transform, drop_clipped);
   }
   b.n_observed = CountObserved(b.observed);
   b.observed_or_nan = ObservedOrNaN(b.observed);
@@ -41,7 +41,7 @@ BoxObservation DistributeBox(const DepthImage& depth, const Intrinsics& K, const
 }
 
 std::vector<uint32_t> ObservedColour(const ColourImage& image, const DepthImage* depth, const render::PixelRect& rect,
-                                     int stride, int radius, uint32_t (*transform)(uint32_t)) {
+                                     int stride, int radius, uint32_t (*transform)(uint32_t), bool drop_clipped) {
   MCPOSE_CHECK_GE(stride, 1);
   MCPOSE_CHECK_GE(radius, 0);
   MCPOSE_CHECK(rect.x0 >= 0 && rect.y0 >= 0 && rect.x1 <= image.width && rect.y1 <= image.height);
@@ -63,8 +63,9 @@ std::vector<uint32_t> ObservedColour(const ColourImage& image, const DepthImage*
         if (p[c] == top[c]) ++at_top[c];
       }
     }
-  std::array<int, 3> clip{255, 255, 255};
-  for (int c = 0; c < 3; ++c)
+  std::array<int, 3> clip{256, 256, 256};  // nothing reaches 256: no pixel dropped
+  if (drop_clipped) clip = {255, 255, 255};
+  for (int c = 0; drop_clipped && c < 3; ++c)
     if (top[c] >= 128 && at_top[c] > 1 && static_cast<double>(at_top[c]) >= kClippedShare * static_cast<double>(pixels))
       clip[c] = top[c];
 

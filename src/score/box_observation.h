@@ -38,7 +38,8 @@ struct BoxObservation {
 // pixel passed through `transform` (ChromaOf, IntensityHueOf) when that is given.
 BoxObservation DistributeBox(const DepthImage& depth, const Intrinsics& K, const render::PixelRect& rect,
                              double score, InlierMode mode, int stride = 1, const ColourImage* colour = nullptr,
-                             uint32_t (*transform)(uint32_t) = nullptr, int smooth_radius = 0);
+                             uint32_t (*transform)(uint32_t) = nullptr, int smooth_radius = 0,
+                             bool drop_clipped = false);
 
 // The observed colour of a box's grid pixels (rect-sized, row-major, RGBA8 packed): each the
 // mean of the image pixels within smooth_radius of it (cut at the image's edges) that lie on the
@@ -47,12 +48,13 @@ BoxObservation DistributeBox(const DepthImage& depth, const Intrinsics& K, const
 // edge of an object takes no colour from what lies behind it. Unknown (alpha 0) where one of
 // those pixels has no colour (alpha 0) or is clipped: a channel at 255, or at the box's brightest
 // value of that channel when that is at least 128 and shared by at least kClippedShare of the
-// box's pixels (a sensor or a tone curve saturated there, at whatever level): a clipped pixel's
-// colour says little of the surface's, and its hue is wrong.
+// box's pixels (a sensor or a tone curve saturated there, at whatever level), when
+// `drop_clipped`: a clipped pixel's hue is wrong.
 inline constexpr double kClippedShare = 0.005;
 inline constexpr float kSameSurfaceM = 0.01f;
 std::vector<uint32_t> ObservedColour(const ColourImage& colour, const DepthImage* depth, const render::PixelRect& rect,
-                                     int stride, int smooth_radius, uint32_t (*transform)(uint32_t));
+                                     int stride, int smooth_radius, uint32_t (*transform)(uint32_t),
+                                     bool drop_clipped = true);
 
 // The raster-core parameters of a box: its grid projection and rect.
 render::RasterParams BoxRasterParams(const BoxObservation& box, bool cull_backfaces);
