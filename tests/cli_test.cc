@@ -663,9 +663,63 @@ TEST(Cli, TwinMarginOnTheKeyFrame) {
   EXPECT_NE(bad.err.find("right_m <= wrong_m"), std::string::npos) << bad.err;
 }
 
+// mcpose synth: the same dataset for a seed; it loads, estimates and evaluates like any BOP
+// dataset, with the textured models through --models; bad options leave nothing behind.
+TEST(Cli, SynthRoundTripsThroughEstimateAndEval) {
+  const fs::path dir = testing::TempDir("synth");
+  const std::string models = testing::DataDir() + "/ycbv_textured/models";
+  if (!fs::exists(models)) GTEST_SKIP() << "no " << models;
+  const std::string seed = "synth -q --models " + models + " --seed 5";
+  const std::string base = seed + " --frames 2";
+  const CliResult a = RunCli(base + " --out " + (dir / "a").string(), dir);
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  const CliResult b = RunCli(base + " --out " + (dir / "b").string(), dir);
+  ASSERT_EQ(b.exit_code, 0) << b.err;
+  for (const char* f : {"test/000000/scene_gt.json", "test/000000/scene_gt_info.json", "test/000000/scene_camera.json",
+                        "test/000000/depth/000002.png", "test/000000/rgb/000002.png", "detections.json", "camera.json",
+                        "models/models_info.json"})
+    EXPECT_EQ(ReadText(dir / "a" / f), ReadText(dir / "b" / f)) << f;
+  const nlohmann::json info = nlohmann::json::parse(ReadText(dir / "a/test/000000/scene_gt_info.json"));
+  ASSERT_EQ(info.size(), 2u);
+  for (const auto& [im, rows] : info.items()) {
+    EXPECT_GE(rows.size(), 3u);
+    EXPECT_LE(rows.size(), 7u);
+    for (const auto& r : rows) EXPECT_GE(r["visib_fract"].get<double>(), 0.1);
+  }
+  const std::string ds = (dir / "a").string();
+  const CliResult e = RunCli("estimate -q --dataset " + ds + " --models " + models + " --detections " + ds +
+                                 "/detections.json --out " + (dir / "r.csv").string(),
+                             dir);
+  ASSERT_EQ(e.exit_code, 0) << e.err;
+  const CliResult v = RunCli("eval --dataset " + ds + " --results " + (dir / "r.csv").string() + " --json " +
+                                 (dir / "e.json").string(),
+                             dir);
+  ASSERT_EQ(v.exit_code, 0) << v.err;
+  const nlohmann::json eval = nlohmann::json::parse(ReadText(dir / "e.json"));
+  EXPECT_EQ(eval["overall"]["with_result"], eval["overall"]["instances"]);
+  EXPECT_GT(eval["overall"]["adds_lt_4cm"].get<double>(), 0.5) << eval["overall"].dump();
+
+  for (const auto& [args, message] : std::vector<std::pair<std::string, std::string>>{
+           {" --out " + ds, "already exists"},
+           {" --out " + (dir / "c").string() + " --objects 5 2", "min_objects"},
+           {" --out " + (dir / "d").string() + " --frames 0", "frames must lie in"},
+           {" --out " + (dir / "e").string() + " --distance 0.1 1", "min_distance_m"},
+           {" --out " + (dir / "f").string() + " --jpeg 101", "jpeg_quality"}}) {
+    const CliResult bad = RunCli((args.find("--frames") != std::string::npos ? seed : base) + args, dir);
+    EXPECT_NE(bad.exit_code, 0) << args;
+    EXPECT_NE(bad.err.find(message), std::string::npos) << args << ": " << bad.err;
+  }
+  const CliResult nomodels = RunCli("synth --models " + (dir / "none").string() + " --out " + (dir / "g").string(), dir);
+  EXPECT_NE(nomodels.exit_code, 0);
+  EXPECT_NE(nomodels.err.find("does not exist"), std::string::npos) << nomodels.err;
+  for (const char* f : {"c", "d", "e", "f", "g"}) EXPECT_FALSE(fs::exists(dir / f)) << f;
+  for (const auto& entry : fs::directory_iterator(dir))
+    EXPECT_EQ(entry.path().filename().string().find(".synth-"), std::string::npos) << "left behind: " << entry.path();
+}
+
 TEST(Cli, HelpOnEveryCommand) {
   const fs::path dir = testing::TempDir("help");
-  for (const char* cmd : {"", "estimate ", "detections-from-gt ", "eval ", "bench "}) {
+  for (const char* cmd : {"", "estimate ", "detections-from-gt ", "eval ", "bench ", "synth "}) {
     const CliResult r = RunCli(std::string(cmd) + "--help", dir);
     EXPECT_EQ(r.exit_code, 0) << cmd;
     EXPECT_NE(r.out.find("--"), std::string::npos) << cmd;
