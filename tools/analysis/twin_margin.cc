@@ -12,6 +12,40 @@
 
 namespace mcpose::analysis {
 
+namespace {
+
+// The twin candidates of `centre` (itself first: as it is, or aligned to the depth with
+// `align_centre` where that is given; the others aligned with the twin alignment's settings),
+// weighed together in `box` at full resolution.
+struct WeighedTwins {
+  std::unique_ptr<engine::BoxScorer> scorer;
+  std::vector<SE3> candidates;
+  filter::ParticleSet poses;
+};
+
+StatusOr<WeighedTwins> WeighTwins(engine::Context& context, const Intrinsics& K, const DepthImage& depth,
+                                  const ColourImage* colour, const Mesh& mesh, const Detection& box,
+                                  const SE3& centre, const refine::AlignOptions* align_centre) {
+  const EstimatorOptions& opt = context.options();
+  WeighedTwins out;
+  MCPOSE_ASSIGN_OR_RETURN(out.scorer, engine::BoxScorer::Create(context, K, depth, mesh, std::span(&box, 1), colour,
+                                                                engine::Resolution::kFull));
+  const render::PixelRect rect = out.scorer->box_observation(0).image_rect;
+  const refine::AlignOptions align = engine::AlignSettings(opt.refine, opt.refine.twin_iterations);
+  const SE3 first = align_centre ? refine::AlignToDepth(K, depth, rect, mesh, centre, *align_centre).T_cam_obj : centre;
+  out.candidates = engine::TwinCandidates(first, mesh, opt.appearance.twin_step_deg);
+  for (size_t i = 1; i < out.candidates.size(); ++i)
+    out.candidates[i] = refine::AlignToDepth(K, depth, rect, mesh, out.candidates[i], align).T_cam_obj;
+  out.poses.Resize(out.candidates.size());
+  for (size_t i = 0; i < out.candidates.size(); ++i)
+    out.poses.R_cam_obj[i] = out.candidates[i].R, out.poses.t_cam_obj_m[i] = out.candidates[i].t, out.poses.box[i] = 0;
+  EngineCounters counters;
+  out.scorer->Weigh(&out.poses, &counters);
+  return out;
+}
+
+}  // namespace
+
 bool TwinMarginOptions::IsValid(std::string* error) const {
   if (!(right_m > 0) || !(wrong_m >= right_m)) {
     *error = "need 0 < right_m <= wrong_m";
@@ -27,26 +61,16 @@ StatusOr<TwinMargin> MeasureTwinMargin(engine::Context& context, const Intrinsic
   std::string error;
   if (!options.IsValid(&error)) return InvalidArgument("twin margin options: " + error);
   const EstimatorOptions& opt = context.options();
-  MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<engine::BoxScorer> scorer,
-                          engine::BoxScorer::Create(context, K, depth, mesh, std::span(&box, 1), colour,
-                                                    engine::Resolution::kFull));
-  const render::PixelRect rect = scorer->box_observation(0).image_rect;
-  const refine::AlignOptions align = engine::AlignSettings(opt.refine, opt.refine.twin_iterations);
-  const SE3 truth = refine::AlignToDepth(K, depth, rect, mesh, T_gt, engine::AlignSettings(opt.refine, opt.refine.max_iterations)).T_cam_obj;
-  std::vector<SE3> candidates = engine::TwinCandidates(truth, mesh, opt.appearance.twin_step_deg);
-  for (size_t i = 1; i < candidates.size(); ++i)
-    candidates[i] = refine::AlignToDepth(K, depth, rect, mesh, candidates[i], align).T_cam_obj;
-  filter::ParticleSet poses;
-  poses.Resize(candidates.size());
-  for (size_t i = 0; i < candidates.size(); ++i)
-    poses.R_cam_obj[i] = candidates[i].R, poses.t_cam_obj_m[i] = candidates[i].t, poses.box[i] = 0;
-  EngineCounters counters;
-  scorer->Weigh(&poses, &counters);
-  const std::span<const score::InlierCounts> counts = scorer->last_counts();
+  // The truth itself, aligned to the depth with the refinement's settings, is the first candidate.
+  const refine::AlignOptions align_truth = engine::AlignSettings(opt.refine, opt.refine.max_iterations);
+  MCPOSE_ASSIGN_OR_RETURN(WeighedTwins twins, WeighTwins(context, K, depth, colour, mesh, box, T_gt, &align_truth));
+  const std::vector<SE3>& candidates = twins.candidates;
+  const filter::ParticleSet& poses = twins.poses;
+  const std::span<const score::InlierCounts> counts = twins.scorer->last_counts();
   const std::vector<Eigen::Vector3f> pts(points.begin(), points.end());
 
   TwinMargin out;
-  out.colour = scorer->uses_colour();
+  out.colour = twins.scorer->uses_colour();
   out.candidates = static_cast<int>(candidates.size());
   constexpr double kNone = -1e9;
   double right[3] = {kNone, kNone, kNone}, wrong[3] = {kNone, kNone, kNone};
@@ -77,21 +101,9 @@ StatusOr<TwinReach> MeasureTwinReach(engine::Context& context, const Intrinsics&
                                      const ColourImage* colour, const Mesh& mesh, const Detection& box,
                                      const SE3& T_est, const SE3& T_gt, std::span<const Eigen::Vector3f> points,
                                      bool symmetric) {
-  const EstimatorOptions& opt = context.options();
-  MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<engine::BoxScorer> scorer,
-                          engine::BoxScorer::Create(context, K, depth, mesh, std::span(&box, 1), colour,
-                                                    engine::Resolution::kFull));
-  const render::PixelRect rect = scorer->box_observation(0).image_rect;
-  const refine::AlignOptions align = engine::AlignSettings(opt.refine, opt.refine.twin_iterations);
-  std::vector<SE3> candidates = engine::TwinCandidates(T_est, mesh, opt.appearance.twin_step_deg);
-  for (size_t i = 1; i < candidates.size(); ++i)
-    candidates[i] = refine::AlignToDepth(K, depth, rect, mesh, candidates[i], align).T_cam_obj;
-  filter::ParticleSet poses;
-  poses.Resize(candidates.size());
-  for (size_t i = 0; i < candidates.size(); ++i)
-    poses.R_cam_obj[i] = candidates[i].R, poses.t_cam_obj_m[i] = candidates[i].t, poses.box[i] = 0;
-  EngineCounters counters;
-  scorer->Weigh(&poses, &counters);
+  MCPOSE_ASSIGN_OR_RETURN(WeighedTwins twins, WeighTwins(context, K, depth, colour, mesh, box, T_est, nullptr));
+  const std::vector<SE3>& candidates = twins.candidates;
+  const filter::ParticleSet& poses = twins.poses;
   const std::vector<Eigen::Vector3f> pts(points.begin(), points.end());
   TwinReach out;
   out.nearest_m = 1e9;
