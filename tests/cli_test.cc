@@ -79,7 +79,52 @@ TEST_P(CliBadInput, OneClearErrorNonZeroExitNoResultsFile) {
   // One message: a single line on stderr.
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   EXPECT_FALSE(fs::exists(results)) << c.name;
-  EXPECT_FALSE(fs::exists(results.string() + ".tmp")) << c.name;
+  EXPECT_TRUE(testing::LeftBeside(results).empty()) << c.name;
+}
+
+// Outputs never overwrite an input, never each other, and never write through a link planted at
+// their name or beside it.
+TEST(Cli, OutputsNeitherOverwriteInputsNorFollowLinks) {
+  const fs::path bop = MakeBopCopy("outputs_links");
+  const fs::path dir = bop.parent_path();
+  const fs::path dets = dir / "dets.json";
+  WriteText(dets, Scene49Detections().dump());
+  const std::string dets_text = ReadText(dets);
+  WriteText(dir / "victim.txt", "keep");
+  fs::create_symlink(dets, dir / "alias.json");
+  const std::string run = "estimate --dataset " + bop.string() + " --detections " + dets.string() +
+                          " --iterations 2 --samples 16 --quiet --out ";
+  const std::pair<std::string, std::string> refused[] = {
+      {dets.string(), "--out names the same file as --detections"},
+      {(dir / "alias.json").string(), "--out names the same file as --detections"},
+      {(dir / "r.csv").string() + " --out-json " + (dir / "r.csv").string(), "--out-json and --out name the same file"},
+  };
+  for (const auto& [args, message] : refused) {
+    const CliResult r = RunCli(run + args, dir);
+    EXPECT_EQ(r.exit_code, 1) << args;
+    EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_EQ(ReadText(dets), dets_text);
+  }
+  CliResult r = RunCli("eval --dataset " + bop.string() + " --results " + (dir / "victim.txt").string() + " --json " +
+                           (dir / "victim.txt").string(),
+                       dir);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("--json names the same file as --results"), std::string::npos) << r.err;
+
+  // A link planted at the journal's name is refused; one at the output's name is replaced.
+  fs::create_symlink(dir / "victim.txt", dir / "r.csv.partial");
+  r = RunCli(run + (dir / "r.csv").string(), dir);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("r.csv.partial: is a link"), std::string::npos) << r.err;
+  fs::remove(dir / "r.csv.partial");
+  fs::create_symlink(dir / "victim.txt", dir / "r.csv");
+  r = RunCli(run + (dir / "r.csv").string(), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_FALSE(fs::is_symlink(dir / "r.csv"));
+  EXPECT_NE(ReadText(dir / "r.csv").find("scene_id,im_id,obj_id"), std::string::npos);
+  EXPECT_EQ(ReadText(dir / "victim.txt"), "keep");
+  EXPECT_TRUE(testing::LeftBeside(dir / "r.csv").empty());
 }
 
 std::string PatchSceneCamera(const fs::path& bop, double fx) {

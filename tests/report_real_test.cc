@@ -176,7 +176,7 @@ TEST(ReportReal, MainJobReportOpensInAHeadlessBrowser) {
     if (!f.is_regular_file()) continue;
     bytes += static_cast<int64_t>(f.file_size());
     const std::string rel = fs::relative(f.path(), out).string();
-    if (rel != "index.html") {
+    if (rel != "index.html" && rel != ".mcpose-report") {
       EXPECT_TRUE(sources.contains(rel)) << "unused file " << rel;
     }
   }
@@ -248,7 +248,7 @@ TEST(ReportReal, BadInputGetsOneErrorLineAndNoReport) {
     EXPECT_NE(r.err.find(c.error), std::string::npos) << r.err;
     EXPECT_EQ(Count(r.err, "\n"), 1) << r.err;
     EXPECT_FALSE(fs::exists(dir / "report")) << c.args;
-    EXPECT_FALSE(fs::exists(dir / "report.tmp")) << c.args;
+    EXPECT_TRUE(testing::LeftBeside(dir / "report").empty()) << c.args;
   }
 
   // A folder that is not a report is not replaced.
@@ -256,11 +256,17 @@ TEST(ReportReal, BadInputGetsOneErrorLineAndNoReport) {
   std::ofstream(dir / "mine" / "notes.txt") << "keep";
   CliResult r = RunCli("report" + data + " --results " + csv + " --out " + (dir / "mine").string(), dir);
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.err.find((dir / "mine").string() + ": exists, is not empty and holds no index.html"), std::string::npos)
+  EXPECT_NE(r.err.find((dir / "mine").string() + ": exists, is not empty and is not a report of mcpose"),
+            std::string::npos)
       << r.err;
   EXPECT_EQ(Count(r.err, "\n"), 1) << r.err;
   EXPECT_EQ(ReadText(dir / "mine" / "notes.txt"), "keep");
-  EXPECT_FALSE(fs::exists(dir / "mine.tmp"));
+  EXPECT_TRUE(testing::LeftBeside(dir / "mine").empty());
+  // Nor is a folder that merely holds an index.html.
+  std::ofstream(dir / "mine" / "index.html") << "<p>mine</p>";
+  r = RunCli("report" + data + " --results " + csv + " --out " + (dir / "mine").string(), dir);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(ReadText(dir / "mine" / "index.html"), "<p>mine</p>");
 
   // The same results into a fresh folder: a report of the one detected image, which a second
   // run replaces.
@@ -271,12 +277,24 @@ TEST(ReportReal, BadInputGetsOneErrorLineAndNoReport) {
   r = RunCli(args, dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("report: 1 image, 4 objects"), std::string::npos) << r.out;
-  std::ofstream(dir / "report" / "images" / "stale.png") << "from an earlier report";
-  r = RunCli(args, dir);
+  // A user's folder named like the report's temporary folder is left alone.
+  fs::create_directories(dir / "report.tmp");
+  std::ofstream(dir / "report.tmp" / "notes.txt") << "keep";
+  // Replaced by a second run, named with a trailing slash.
+  r = RunCli(args + "/", dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(fs::exists(dir / "report" / "index.html"));
-  EXPECT_FALSE(fs::exists(dir / "report" / "images" / "stale.png"));
-  EXPECT_FALSE(fs::exists(dir / "report.tmp"));
+  EXPECT_EQ(ReadText(dir / "report.tmp" / "notes.txt"), "keep");
+  fs::remove_all(dir / "report.tmp");
+  EXPECT_TRUE(testing::LeftBeside(dir / "report").empty());
+  // A file the report did not write keeps the folder from being replaced.
+  std::ofstream(dir / "report" / "images" / "mine.png") << "not the report's";
+  r = RunCli(args, dir);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("holds images/mine.png, which no report wrote"), std::string::npos) << r.err;
+  EXPECT_EQ(ReadText(dir / "report" / "images" / "mine.png"), "not the report's");
+  EXPECT_TRUE(fs::exists(dir / "report" / "index.html"));
+  EXPECT_TRUE(testing::LeftBeside(dir / "report").empty());
 }
 
 }  // namespace

@@ -44,4 +44,18 @@ inline std::filesystem::path TempDir(const std::string& name) {
   return dir;
 }
 
+// The names beside `target` that a writer of it makes while it works (`NAME.tmp-XXXXXX`,
+// a report's `NAME.old-XXXXXX`): none may be left once a run has ended.
+inline std::vector<std::string> LeftBeside(const std::filesystem::path& target) {
+  std::vector<std::string> left;
+  std::error_code ec;
+  const std::filesystem::path dir = target.has_parent_path() ? target.parent_path() : ".";
+  const std::string name = target.filename().string();
+  for (const auto& e : std::filesystem::directory_iterator(dir, ec)) {
+    const std::string other = e.path().filename().string();
+    if (other.rfind(name + ".tmp", 0) == 0 || other.rfind(name + ".old-", 0) == 0) left.push_back(other);
+  }
+  return left;
+}
+
 }  // namespace mcpose::testing

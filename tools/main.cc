@@ -1,5 +1,8 @@
 #include <cstdio>
 
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
 #include "tools.h"
 
 int main(int argc, char** argv) {
@@ -13,6 +16,8 @@ int main(int argc, char** argv) {
   mcpose::tools::AddMissesCommand(app, &status);
   mcpose::tools::AddRelightCommand(app, &status);
   mcpose::tools::AddTwinMarginCommand(app, &status);
+  // Warnings and progress go to stderr; stdout carries only what a command reports.
+  spdlog::set_default_logger(spdlog::stderr_color_st("mcpose-tools"));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

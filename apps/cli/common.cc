@@ -4,6 +4,9 @@
 #include <filesystem>
 #include <fstream>
 
+#include <unistd.h>
+
+#include "io/io_util.h"
 #include "render/simd_targets.h"
 
 namespace mcpose::cli {
@@ -271,12 +274,40 @@ Status CheckWritable(const std::string& path) {
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) return NotFound(path + ": folder " + dir.string() + " does not exist");
   if (fs::is_directory(p, ec)) return InvalidArgument(path + ": is a folder, expected a file path");
-  const std::string probe = path + ".probe.tmp";
-  {
-    std::ofstream out(probe);
-    if (!out) return InvalidArgument(path + ": cannot create files in " + dir.string());
+  // The probe is created exclusively under a fresh name: it follows no link and touches no file.
+  StatusOr<io::TempFile> probe = io::CreateTempFileBeside(path);
+  if (!probe.ok()) return InvalidArgument(path + ": cannot create files in " + dir.string());
+  ::close(probe->fd);
+  fs::remove(probe->path, ec);
+  return Status::Ok();
+}
+
+namespace {
+
+// Two paths name the same file: the same after resolving links and "..", or (where both exist)
+// the same inode.
+bool SameFile(const std::string& a, const std::string& b) {
+  namespace fs = std::filesystem;
+  std::error_code ec1, ec2;
+  const fs::path ca = fs::weakly_canonical(fs::absolute(a), ec1), cb = fs::weakly_canonical(fs::absolute(b), ec2);
+  if (!ec1 && !ec2 && ca == cb) return true;
+  std::error_code ec;
+  return fs::exists(a, ec) && fs::exists(b, ec) && fs::equivalent(a, b, ec) && !ec;
+}
+
+}  // namespace
+
+Status CheckOutputsDistinct(std::initializer_list<PathArg> inputs, std::initializer_list<PathArg> outputs) {
+  for (auto out = outputs.begin(); out != outputs.end(); ++out) {
+    if (out->path.empty()) continue;
+    for (const PathArg& in : inputs)
+      if (!in.path.empty() && SameFile(out->path, in.path))
+        return InvalidArgument(out->path + ": " + out->flag + " names the same file as " + in.flag +
+                               ", an input of this run; it would be overwritten");
+    for (auto other = outputs.begin(); other != out; ++other)
+      if (!other->path.empty() && SameFile(out->path, other->path))
+        return InvalidArgument(out->path + ": " + out->flag + " and " + other->flag + " name the same file");
   }
-  fs::remove(probe, ec);
   return Status::Ok();
 }
 

@@ -2,6 +2,7 @@
 // registered once, and safe output files.
 #pragma once
 
+#include <initializer_list>
 #include <string>
 #include <vector>
 
@@ -68,6 +69,15 @@ void RemoveOutput(const std::string& path);
 
 // Ok if a file could be created at `path` (its folder exists and is writable).
 Status CheckWritable(const std::string& path);
+
+// A command's file argument: its flag and the path given (empty: not given).
+struct PathArg {
+  const char* flag;
+  const std::string& path;
+};
+// Ok unless an output names the same file as an input or as another output (through any
+// spelling, link or hard link); checked before any work, so that no run overwrites its own input.
+Status CheckOutputsDistinct(std::initializer_list<PathArg> inputs, std::initializer_list<PathArg> outputs);
 
 // The SIMD target the kernels dispatch to now, and those this build and CPU offer.
 std::string ActiveSimdTarget();

@@ -73,6 +73,7 @@ Status RunEstimate(EstimateArgs& a) {
   const EstimatorOptions& o = a.flags.options;
 
   // ---- Inputs and outputs, checked before any work -------------------------------------
+  MCPOSE_RETURN_IF_ERROR(CheckOutputsDistinct({{"--detections", a.detections}}, {{"--out", a.out}, {"--out-json", a.out_json}}));
   MCPOSE_RETURN_IF_ERROR(CheckWritable(a.out));
   if (!a.out_json.empty()) MCPOSE_RETURN_IF_ERROR(CheckWritable(a.out_json));
   MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<Dataset> dataset, Dataset::Open(a.dataset, a.split, a.models));

@@ -43,6 +43,7 @@ nlohmann::json Metres(double v) { return std::isfinite(v) ? nlohmann::json(v) : 
 
 Status RunEval(const EvalArgs& a) {
   if (!(std::isfinite(a.auc_max_m) && a.auc_max_m > 0)) return InvalidArgument("--auc-max must be > 0");
+  MCPOSE_RETURN_IF_ERROR(CheckOutputsDistinct({{"--results", a.results}, {"--detections", a.detections}}, {{"--json", a.json}}));
   if (!a.json.empty()) MCPOSE_RETURN_IF_ERROR(CheckWritable(a.json));
   MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<Dataset> dataset, Dataset::Open(a.dataset, a.split));
   MCPOSE_ASSIGN_OR_RETURN(std::vector<PoseResult> results, ReadResultsCsv(a.results));

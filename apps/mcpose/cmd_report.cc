@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <memory>
 
+#include "cli/common.h"
 #include "commands.h"
 #include "mcpose/dataset.h"
 #include "mcpose/detection.h"
@@ -22,6 +23,8 @@ struct ReportArgs {
 Status RunReport(const ReportArgs& a) {
   if (!(std::isfinite(a.auc_max_m) && a.auc_max_m > 0)) return InvalidArgument("--auc-max must be > 0");
   const auto start = std::chrono::steady_clock::now();
+  MCPOSE_RETURN_IF_ERROR(CheckOutputsDistinct({{"--results", a.results}, {"--detections", a.detections}, {"--detail", a.detail}},
+                                             {{"--out", a.out}}));
   MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<Dataset> dataset, Dataset::Open(a.dataset, a.split));
   report::ReportInput input;
   MCPOSE_ASSIGN_OR_RETURN(input.results, ReadResultsCsv(a.results));

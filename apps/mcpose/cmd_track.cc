@@ -61,6 +61,7 @@ Status RunTrack(TrackArgs& a) {
   if (!a.tracker.IsValid(&error)) return InvalidArgument("invalid tracker options: " + error);
   int first = 0, last = 0;
   MCPOSE_RETURN_IF_ERROR(ParseFrameRange(a.frames, &first, &last));
+  MCPOSE_RETURN_IF_ERROR(CheckOutputsDistinct({{"--detections", a.detections}}, {{"--out", a.out}, {"--out-json", a.out_json}}));
   MCPOSE_RETURN_IF_ERROR(CheckWritable(a.out));
   if (!a.out_json.empty()) MCPOSE_RETURN_IF_ERROR(CheckWritable(a.out_json));
   MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<Dataset> dataset, Dataset::Open(a.dataset, a.split, a.models));

@@ -1,5 +1,6 @@
 #include <cstdio>
 
+#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include "commands.h"
@@ -20,6 +21,8 @@ int main(int argc, char** argv) {
   mcpose::cli::AddTrackCommand(app, &status);
   mcpose::cli::AddReportCommand(app, &status);
   mcpose::cli::AddSynthCommand(app, &status);
+  // Warnings and progress go to stderr; stdout carries only what a command reports.
+  spdlog::set_default_logger(spdlog::stderr_color_st("mcpose"));
   spdlog::set_pattern("[%H:%M:%S] %v");
   try {
     app.parse(argc, argv);

@@ -20,8 +20,9 @@ struct PoseResult {
   double time_s = -1;  // seconds spent on the whole image; -1 is written as -1
 };
 
-// Writes to `path` + ".tmp", flushed to disk, then renames it: a failed or killed run leaves no
-// partial file.
+// Writes to a new file beside `path` (`path.tmp-XXXXXX`, created exclusively), flushed to disk,
+// then renamed to `path`: a failed or killed run leaves no partial file, and a link at `path` is
+// replaced, never written through.
 Status WriteResultsCsv(const std::string& path, const std::vector<PoseResult>& results);
 StatusOr<std::vector<PoseResult>> ReadResultsCsv(const std::string& path);
 

@@ -3,6 +3,7 @@
 #include <cerrno>
 #include <charconv>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <system_error>
@@ -32,25 +33,40 @@ StatusOr<std::string> ReadFileToString(const std::string& path) {
   return contents;
 }
 
+StatusOr<TempFile> CreateTempFileBeside(const std::string& path) {
+  // mkostemp creates the file exclusively (O_CREAT | O_EXCL) under a fresh name: it neither
+  // follows a link planted beside the target nor opens a file someone else made.
+  std::string name = path + ".tmp-XXXXXX";
+  const int fd = ::mkostemp(name.data(), O_CLOEXEC);
+  if (fd < 0) return NotFound(path + ": cannot create a temporary file beside it (" + std::strerror(errno) + ")");
+  return TempFile{fd, name};
+}
+
 Status WriteFileAtomic(const std::string& path, const std::string& contents) {
-  const std::string tmp = path + ".tmp";
-  std::FILE* f = std::fopen(tmp.c_str(), "wb");
-  if (!f) return NotFound(tmp + ": cannot create file (" + std::strerror(errno) + ")");
-  const bool wrote = std::fwrite(contents.data(), 1, contents.size(), f) == contents.size();
+  std::error_code ec;
+  if (fs::is_directory(fs::symlink_status(path, ec))) return InvalidArgument(path + ": is a folder, expected a file path");
+  MCPOSE_ASSIGN_OR_RETURN(TempFile tmp, CreateTempFileBeside(path));
+  bool wrote = true;
+  for (size_t done = 0; wrote && done < contents.size();) {
+    const ssize_t n = ::write(tmp.fd, contents.data() + done, contents.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    wrote = n > 0;
+    if (wrote) done += static_cast<size_t>(n);
+  }
   // The data reach the disk before the rename makes them the file: after a power loss the name
   // holds the old file or the whole new one.
-  const bool synced = std::fflush(f) == 0 && ::fsync(::fileno(f)) == 0;
-  const bool closed = std::fclose(f) == 0;
-  std::error_code ec;
+  const bool synced = wrote && ::fsync(tmp.fd) == 0;
+  const bool closed = ::close(tmp.fd) == 0;
   if (!wrote || !synced || !closed) {
-    fs::remove(tmp, ec);
-    return Internal(tmp + ": write failed (disk full?)");
+    fs::remove(tmp.path, ec);
+    return Internal(tmp.path + ": write failed (disk full?)");
   }
-  fs::rename(tmp, path, ec);
+  // rename replaces a link at `path` itself, never the file it points to.
+  fs::rename(tmp.path, path, ec);
   if (ec) {
     std::error_code ignored;
-    fs::remove(tmp, ignored);
-    return Internal(path + ": cannot rename " + tmp + " to it (" + ec.message() + ")");
+    fs::remove(tmp.path, ignored);
+    return Internal(path + ": cannot rename " + tmp.path + " to it (" + ec.message() + ")");
   }
   return SyncParentDirectory(path);
 }

@@ -14,8 +14,17 @@ namespace mcpose::io {
 // The bytes of `path`. NotFound if it does not exist, DataLoss if it cannot be read.
 StatusOr<std::string> ReadFileToString(const std::string& path);
 
-// Writes `contents` to `path` + ".tmp" (same folder), flushes it to disk, then renames it to
-// `path`: readers never see a partial file, and on error no file is left behind. Every output
+// A new file beside `path`, named `path` + ".tmp-" and six random characters, created
+// exclusively: never a link someone planted, never a file that existed. The caller closes `fd`.
+struct TempFile {
+  int fd = -1;
+  std::string path;
+};
+StatusOr<TempFile> CreateTempFileBeside(const std::string& path);
+
+// Writes `contents` to a new temporary file beside `path` (CreateTempFileBeside), flushes it to
+// disk, then renames it to `path`: readers never see a partial file, on error no file is left
+// behind, and a link at `path` or beside it is replaced, never written through. Every output
 // file of the library and the command-line tools goes through here.
 Status WriteFileAtomic(const std::string& path, const std::string& contents);
 

@@ -1,6 +1,7 @@
 #include "io/results_journal.h"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <sys/file.h>
 #include <unistd.h>
 
@@ -137,8 +138,15 @@ std::string JournalPath(const std::string& out) { return out + ".partial"; }
 StatusOr<std::unique_ptr<ResultsJournal>> ResultsJournal::Open(const std::string& out,
                                                                const std::string& fingerprint, bool resume) {
   const std::string path = JournalPath(out);
-  const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  // O_NOFOLLOW: a link planted at the journal's name is refused, never written through.
+  const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
+  if (fd < 0 && errno == ELOOP) return InvalidArgument(path + ": is a link; the journal is never written through one");
   if (fd < 0) return NotFound(path + ": cannot create file (" + std::strerror(errno) + ")");
+  struct stat st;
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    ::close(fd);
+    return InvalidArgument(path + ": is not a regular file");
+  }
   std::unique_ptr<ResultsJournal> journal(new ResultsJournal(out, fd));
   // Two runs appending to one journal would interleave their images: the second one stops here.
   if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {

@@ -3,9 +3,12 @@
 #include "report/report.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -584,18 +587,50 @@ int64_t FolderBytes(const fs::path& dir) {
   return bytes;
 }
 
+// A report's folder holds this file: the list of the files the report wrote (paths relative to
+// the folder, one a line). A later report replaces only a folder whose files are all listed.
+constexpr char kMarker[] = ".mcpose-report";
+
 // Ok if `out` can become the report folder: its parent exists, and it is absent, empty, or an
-// earlier report.
+// earlier report holding nothing but what that report wrote.
 Status CheckOutFolder(const fs::path& out) {
   std::error_code ec;
   const fs::path parent = out.has_parent_path() ? out.parent_path() : fs::path(".");
   if (!fs::is_directory(parent, ec)) return NotFound(out.string() + ": folder " + parent.string() + " does not exist");
-  if (!fs::exists(out, ec)) return Status::Ok();
-  if (!fs::is_directory(out, ec)) return InvalidArgument(out.string() + ": exists and is not a folder");
-  if (!fs::is_empty(out, ec) && !fs::exists(out / "index.html", ec))
-    return InvalidArgument(out.string() + ": exists, is not empty and holds no index.html: not a report folder, "
-                           "so it is not replaced");
+  const fs::file_status st = fs::symlink_status(out, ec);
+  if (!fs::exists(st)) return Status::Ok();
+  if (fs::is_symlink(st)) return InvalidArgument(out.string() + ": is a link; a report is written to a real folder");
+  if (!fs::is_directory(st)) return InvalidArgument(out.string() + ": exists and is not a folder");
+  if (fs::is_empty(out, ec)) return Status::Ok();
+  if (!fs::is_regular_file(fs::symlink_status(out / kMarker, ec)))
+    return InvalidArgument(out.string() + ": exists, is not empty and is not a report of mcpose (no " +
+                           std::string(kMarker) + " in it), so it is not replaced");
+  MCPOSE_ASSIGN_OR_RETURN(std::string listed, io::ReadFileToString((out / kMarker).string()));
+  std::set<std::string> ours;
+  for (std::string_view line : io::SplitLines(listed))
+    if (!line.empty()) ours.emplace(line);
+  for (auto it = fs::recursive_directory_iterator(out, ec); !ec && it != fs::recursive_directory_iterator();
+       it.increment(ec)) {
+    const std::string rel = fs::relative(it->path(), out, ec).string();
+    const fs::file_status f = it->symlink_status(ec);
+    const bool written = rel == kMarker || (fs::is_regular_file(f) && ours.contains(rel)) ||
+                         (fs::is_directory(f) && rel == "images");
+    if (!written)
+      return InvalidArgument(out.string() + ": holds " + rel + ", which no report wrote, so it is not replaced");
+  }
+  if (ec) return Internal(out.string() + ": cannot list the folder (" + ec.message() + ")");
   return Status::Ok();
+}
+
+// Writes the marker of the report in `dir`: every regular file below it.
+Status WriteMarker(const fs::path& dir) {
+  std::vector<std::string> files;
+  for (const auto& f : fs::recursive_directory_iterator(dir))
+    if (f.is_regular_file()) files.push_back(fs::relative(f.path(), dir).string());
+  std::sort(files.begin(), files.end());
+  std::string text;
+  for (const std::string& f : files) text += f + "\n";
+  return io::WriteFileAtomic((dir / kMarker).string(), text);
 }
 
 Status WriteFolder(const Dataset& dataset, Model* m, const fs::path& tmp) {
@@ -645,7 +680,8 @@ bool IsDistractor(const Detection& box, std::span<const MaskImage> visible_masks
 }
 
 StatusOr<ReportSummary> WriteReport(const Dataset& dataset, const ReportInput& input, const std::string& out_dir) {
-  const fs::path out = fs::path(out_dir).lexically_normal();
+  fs::path out = fs::path(out_dir).lexically_normal();
+  if (out.filename().empty() && out.has_parent_path()) out = out.parent_path();  // "report/" names "report"
   MCPOSE_RETURN_IF_ERROR(CheckOutFolder(out));
   MCPOSE_RETURN_IF_ERROR(CheckAgainstDataset(dataset, input));
   Model m;
@@ -655,19 +691,36 @@ StatusOr<ReportSummary> WriteReport(const Dataset& dataset, const ReportInput& i
                                            input.detections ? &*input.detections : nullptr, input.eval));
   MCPOSE_RETURN_IF_ERROR(CollectSections(&m));
 
-  // Everything goes into a temporary folder beside the target, renamed at the end.
-  const fs::path tmp = out.string() + ".tmp";
+  // Everything goes into a new folder of its own beside the target, which takes the target's
+  // place at the end; the earlier report (checked to hold only what a report wrote) goes then.
+  std::string tmpl = out.string() + ".tmp-XXXXXX";
+  if (!::mkdtemp(tmpl.data()))
+    return Internal(out.string() + ": cannot create a temporary folder beside it (" + std::strerror(errno) + ")");
+  const fs::path tmp(tmpl);
   std::error_code ec;
-  fs::remove_all(tmp, ec);
+  Status status;
   if (!fs::create_directories(tmp / "images", ec))
-    return Internal(tmp.string() + ": cannot create the temporary folder: " + ec.message());
-  if (Status status = WriteFolder(dataset, &m, tmp); !status.ok()) {
+    status = Internal(tmp.string() + ": cannot create the images folder: " + ec.message());
+  if (status.ok()) status = WriteFolder(dataset, &m, tmp);
+  if (status.ok()) status = WriteMarker(tmp);
+  fs::path old;
+  if (status.ok() && fs::exists(fs::symlink_status(out, ec))) {
+    std::string old_tmpl = out.string() + ".old-XXXXXX";
+    if (!::mkdtemp(old_tmpl.data()))
+      status = Internal(out.string() + ": cannot create a folder beside it (" + std::strerror(errno) + ")");
+    else if (fs::rename(out, old_tmpl, ec); ec)
+      status = Internal(out.string() + ": cannot move the earlier report aside: " + ec.message());
+    else
+      old = old_tmpl;
+  }
+  if (status.ok() && (fs::rename(tmp, out, ec), ec))
+    status = Internal(out.string() + ": cannot move the report into place: " + ec.message());
+  if (!status.ok()) {
     fs::remove_all(tmp, ec);
+    if (!old.empty()) fs::rename(old, out, ec);
     return status;
   }
-  fs::remove_all(out, ec);
-  fs::rename(tmp, out, ec);
-  if (ec) return Internal(out.string() + ": cannot move the report into place: " + ec.message());
+  if (!old.empty()) fs::remove_all(old, ec);
 
   ReportSummary summary;
   summary.images = static_cast<int>(m.sections.size());
