@@ -688,7 +688,7 @@ TEST(Cli, RelightWritesATransformedDatasetOrNothing) {
   EXPECT_NE(bop.exit_code, 0);
   EXPECT_NE(bop.err.find("not a YCB-Video dataset"), std::string::npos) << bop.err;
   for (const auto& e : fs::directory_iterator(dir))
-    EXPECT_EQ(e.path().filename().string().find(".relight-"), std::string::npos) << "left behind: " << e.path();
+    EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << "left behind: " << e.path();
 }
 
 // Twin margins on the key frame: a table per object, JSON per instance; the truth's weight
@@ -759,7 +759,7 @@ TEST(Cli, SynthRoundTripsThroughEstimateAndEval) {
   EXPECT_NE(nomodels.err.find("does not exist"), std::string::npos) << nomodels.err;
   for (const char* f : {"c", "d", "e", "f", "g"}) EXPECT_FALSE(fs::exists(dir / f)) << f;
   for (const auto& entry : fs::directory_iterator(dir))
-    EXPECT_EQ(entry.path().filename().string().find(".synth-"), std::string::npos) << "left behind: " << entry.path();
+    EXPECT_EQ(entry.path().filename().string().find(".tmp-"), std::string::npos) << "left behind: " << entry.path();
 }
 
 TEST(Cli, HelpOnEveryCommand) {

@@ -3,13 +3,13 @@
 // scripts/accuracy_photometric.sh.
 #include <algorithm>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "core/rng.h"
+#include "io/io_util.h"
 #include "io/png_io.h"
 #include "synth/photometric.h"
 #include "tools.h"
@@ -86,9 +86,7 @@ Status RunRelight(const RelightArgs& a) {
   const fs::path parent = out.parent_path();
   if (!fs::is_directory(parent, ec)) return NotFound(a.out + ": folder " + parent.string() + " does not exist");
   // Written beside the target under a fresh name, renamed into place when whole.
-  std::string tmpl = (parent / (out.filename().string() + ".relight-XXXXXX")).string();
-  if (!::mkdtemp(tmpl.data())) return InvalidArgument(a.out + ": cannot create a folder in " + parent.string());
-  const fs::path tmp(tmpl);
+  MCPOSE_ASSIGN_OR_RETURN(const fs::path tmp, io::CreateFolderBeside(out.string(), ".tmp-"));
   Status status = WriteRelit(src, tmp, t, a.seed);
   if (status.ok()) {
     fs::rename(tmp, out, ec);

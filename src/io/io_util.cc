@@ -3,12 +3,13 @@
 #include <cerrno>
 #include <charconv>
 #include <cstdio>
-#include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <random>
 #include <system_error>
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "core/physical_limits.h"
@@ -33,13 +34,41 @@ StatusOr<std::string> ReadFileToString(const std::string& path) {
   return contents;
 }
 
+namespace {
+
+// `path` + `tag` + six random letters: a name to try for a new file or folder beside `path`.
+std::string FreshName(const std::string& path, const char* tag, std::random_device& entropy) {
+  static constexpr char kLetters[] = "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789";
+  std::string name = path + tag;
+  for (int i = 0; i < 6; ++i) name += kLetters[entropy() % (sizeof kLetters - 1)];
+  return name;
+}
+
+}  // namespace
+
 StatusOr<TempFile> CreateTempFileBeside(const std::string& path) {
-  // mkostemp creates the file exclusively (O_CREAT | O_EXCL) under a fresh name: it neither
-  // follows a link planted beside the target nor opens a file someone else made.
-  std::string name = path + ".tmp-XXXXXX";
-  const int fd = ::mkostemp(name.data(), O_CLOEXEC);
-  if (fd < 0) return NotFound(path + ": cannot create a temporary file beside it (" + std::strerror(errno) + ")");
-  return TempFile{fd, name};
+  // Created exclusively (O_CREAT | O_EXCL, which never follows a link) under a fresh name, with
+  // the permissions the user's umask gives any new file.
+  std::random_device entropy;
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    std::string name = FreshName(path, ".tmp-", entropy);
+    const int fd = ::open(name.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+    if (fd >= 0) return TempFile{fd, name};
+    if (errno != EEXIST)
+      return NotFound(path + ": cannot create a temporary file beside it (" + std::strerror(errno) + ")");
+  }
+  return Internal(path + ": cannot find a free temporary name beside it");
+}
+
+StatusOr<std::string> CreateFolderBeside(const std::string& path, const char* tag) {
+  std::random_device entropy;
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    std::string name = FreshName(path, tag, entropy);
+    if (::mkdir(name.c_str(), 0777) == 0) return name;
+    if (errno != EEXIST)
+      return NotFound(path + ": cannot create a folder beside it (" + std::strerror(errno) + ")");
+  }
+  return Internal(path + ": cannot find a free folder name beside it");
 }
 
 Status WriteFileAtomic(const std::string& path, const std::string& contents) {

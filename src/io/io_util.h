@@ -22,6 +22,10 @@ struct TempFile {
 };
 StatusOr<TempFile> CreateTempFileBeside(const std::string& path);
 
+// A new, empty folder beside `path`, named `path` + `tag` + six random characters (e.g. tag
+// ".tmp-"), created exclusively with the permissions the user's umask gives. Its name.
+StatusOr<std::string> CreateFolderBeside(const std::string& path, const char* tag);
+
 // Writes `contents` to a new temporary file beside `path` (CreateTempFileBeside), flushes it to
 // disk, then renames it to `path`: readers never see a partial file, on error no file is left
 // behind, and a link at `path` or beside it is replaced, never written through. Every output

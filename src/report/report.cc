@@ -3,12 +3,9 @@
 #include "report/report.h"
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
-#include <cstdlib>
-#include <cstring>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -693,10 +690,7 @@ StatusOr<ReportSummary> WriteReport(const Dataset& dataset, const ReportInput& i
 
   // Everything goes into a new folder of its own beside the target, which takes the target's
   // place at the end; the earlier report (checked to hold only what a report wrote) goes then.
-  std::string tmpl = out.string() + ".tmp-XXXXXX";
-  if (!::mkdtemp(tmpl.data()))
-    return Internal(out.string() + ": cannot create a temporary folder beside it (" + std::strerror(errno) + ")");
-  const fs::path tmp(tmpl);
+  MCPOSE_ASSIGN_OR_RETURN(const fs::path tmp, io::CreateFolderBeside(out.string(), ".tmp-"));
   std::error_code ec;
   Status status;
   if (!fs::create_directories(tmp / "images", ec))
@@ -705,13 +699,13 @@ StatusOr<ReportSummary> WriteReport(const Dataset& dataset, const ReportInput& i
   if (status.ok()) status = WriteMarker(tmp);
   fs::path old;
   if (status.ok() && fs::exists(fs::symlink_status(out, ec))) {
-    std::string old_tmpl = out.string() + ".old-XXXXXX";
-    if (!::mkdtemp(old_tmpl.data()))
-      status = Internal(out.string() + ": cannot create a folder beside it (" + std::strerror(errno) + ")");
-    else if (fs::rename(out, old_tmpl, ec); ec)
+    StatusOr<std::string> aside = io::CreateFolderBeside(out.string(), ".old-");
+    if (!aside.ok())
+      status = aside.status();
+    else if (fs::rename(out, *aside, ec); ec)
       status = Internal(out.string() + ": cannot move the earlier report aside: " + ec.message());
     else
-      old = old_tmpl;
+      old = *aside;
   }
   if (status.ok() && (fs::rename(tmp, out, ec), ec))
     status = Internal(out.string() + ": cannot move the report into place: " + ec.message());

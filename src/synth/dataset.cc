@@ -1,7 +1,5 @@
 #include "synth/dataset.h"
 
-#include <stdlib.h>
-
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -167,9 +165,7 @@ Status WriteSynthDataset(const std::vector<NamedModel>& models, const SynthDatas
   if (fs::exists(fs::symlink_status(out, ec))) return InvalidArgument(out_dir + ": already exists; synth writes a new folder");
   const fs::path parent = out.parent_path();
   if (!fs::is_directory(parent, ec)) return NotFound(out_dir + ": folder " + parent.string() + " does not exist");
-  std::string tmpl = (parent / (out.filename().string() + ".synth-XXXXXX")).string();
-  if (!::mkdtemp(tmpl.data())) return InvalidArgument(out_dir + ": cannot create a folder in " + parent.string());
-  const fs::path tmp(tmpl);
+  MCPOSE_ASSIGN_OR_RETURN(const fs::path tmp, io::CreateFolderBeside(out.string(), ".tmp-"));
   Status status;
   try {
     status = WriteAll(models, options, tmp, progress);
