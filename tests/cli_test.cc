@@ -198,6 +198,10 @@ const BadCase kBadCases[] = {
        return p.string(); }, ""},
     {"invalid_option", [](const fs::path&, nlohmann::json&) { return std::string("samples"); }, "--samples 0"},
     {"invalid_flip_rate", [](const fs::path&, nlohmann::json&) { return std::string("flip_rate"); }, "--flip-rate 1.5"},
+    {"threads_past_the_limit", [](const fs::path&, nlohmann::json&) { return std::string("engine.threads must lie in"); },
+     "--threads 10000"},
+    {"samples_past_the_limit", [](const fs::path&, nlohmann::json&) { return std::string("samples must lie in"); },
+     "--samples 1000000000"},
     {"colour_frame_of_another_size", [](const fs::path& bop, nlohmann::json&) {
        AddColour(bop);
        const fs::path p = bop / "test/000049/rgb/000001.png";

@@ -8,6 +8,17 @@
 
 namespace mcpose {
 
+// Practical limits of the options, checked by IsValid (a value past one is a mistake, not a
+// request: it would exhaust memory or run for days).
+namespace limits {
+inline constexpr int kMaxSamples = 1'000'000;       // samples (and tracker samples): ~0.2 GB of particles
+inline constexpr int kMaxIterations = 10'000;       // filter, tracker, refinement and twin steps
+inline constexpr int kMaxCdfTable = 1 << 20;        // resample.cdf_table_size entries
+inline constexpr int kMaxThreads = 1024;            // engine.threads
+inline constexpr double kMaxSigmaM = 10.0;          // translation sigmas, metres (a scene's scale)
+inline constexpr double kMaxSigmaRad = 6.2831853;   // rotation sigmas, radians (a full turn)
+}  // namespace limits
+
 // How a rendered pixel is tested against the observed depth.
 enum class InlierMode {
   k1D,  // |z_rendered - z_observed| < eps at the same pixel (the paper's raster-core test)

@@ -105,8 +105,10 @@ StatusOr<std::vector<BenchObject>> RunBench(const Dataset& ds, const BenchOption
     if (std::find(ids.begin(), ids.begin() + static_cast<std::ptrdiff_t>(i), ids[i]) != ids.begin() + i)
       return InvalidArgument("--objects: obj_id " + std::to_string(ids[i]) + " is listed twice");
   }
-  if (options.iterations < 1) return InvalidArgument("--iterations must be >= 1");
-  if (options.render_repeats < 1) return InvalidArgument("--repeats must be >= 1");
+  if (options.iterations < 1 || options.iterations > limits::kMaxIterations)
+    return InvalidArgument("--iterations must lie in [1, " + std::to_string(limits::kMaxIterations) + "]");
+  if (options.render_repeats < 1 || options.render_repeats > 1000)
+    return InvalidArgument("--repeats must lie in [1, 1000]");
   for (const auto& b : options.baselines)
     if (b != "embree" && b != "osmesa")
       return InvalidArgument("--baselines: unknown baseline '" + b + "' (expected embree, osmesa)");

@@ -55,9 +55,12 @@ void EngineOptions::DropUnusableFeatures() {
 
 bool EstimatorOptions::IsValid(std::string* error) const {
   auto finite_nonnegative = [](double v) { return std::isfinite(v) && v >= 0; };
-  if (samples < 1) return Fail(error, "samples must be >= 1, got " + std::to_string(samples));
-  if (max_iterations < 1)
-    return Fail(error, "max_iterations must be >= 1, got " + std::to_string(max_iterations));
+  if (samples < 1 || samples > limits::kMaxSamples)
+    return Fail(error, "samples must lie in [1, " + std::to_string(limits::kMaxSamples) + "], got " +
+                           std::to_string(samples));
+  if (max_iterations < 1 || max_iterations > limits::kMaxIterations)
+    return Fail(error, "max_iterations must lie in [1, " + std::to_string(limits::kMaxIterations) + "], got " +
+                           std::to_string(max_iterations));
   if (!std::isfinite(tau)) return Fail(error, "tau must be finite");
 
   if (!(init.depth_quantile >= 0 && init.depth_quantile <= 1))
@@ -65,7 +68,8 @@ bool EstimatorOptions::IsValid(std::string* error) const {
   if (!(init.front_share >= 0 && init.front_share <= 1)) return Fail(error, "init.front_share must lie in [0, 1]");
   if (!(init.front_quantile >= 0 && init.front_quantile <= 1))
     return Fail(error, "init.front_quantile must lie in [0, 1]");
-  if (!finite_nonnegative(init.sigma_t_m)) return Fail(error, "init.sigma_t_m must be finite and >= 0");
+  if (!(finite_nonnegative(init.sigma_t_m) && init.sigma_t_m <= limits::kMaxSigmaM))
+    return Fail(error, "init.sigma_t_m must lie in [0, 10] m");
 
   if (!(std::isfinite(weight.eps_m) && weight.eps_m > 0)) return Fail(error, "weight.eps_m must be finite and > 0");
   if (!(weight.box_fit >= 0 && weight.box_fit <= 1)) return Fail(error, "weight.box_fit must lie in [0, 1]");
@@ -79,10 +83,15 @@ bool EstimatorOptions::IsValid(std::string* error) const {
 
   if (!(resample.keep_top_fraction > 0 && resample.keep_top_fraction <= 1))
     return Fail(error, "resample.keep_top_fraction must lie in (0, 1]");
-  if (resample.cdf_table_size < 1) return Fail(error, "resample.cdf_table_size must be >= 1");
+  if (resample.cdf_table_size < 1 || resample.cdf_table_size > limits::kMaxCdfTable)
+    return Fail(error, "resample.cdf_table_size must lie in [1, " + std::to_string(limits::kMaxCdfTable) + "]");
 
-  for (double s : {diffusion.sigma_t_m, diffusion.sigma_r_rad, diffusion.sigma_t_min_m, diffusion.sigma_r_min_rad})
-    if (!finite_nonnegative(s)) return Fail(error, "diffusion sigmas must be finite and >= 0");
+  for (double s : {diffusion.sigma_t_m, diffusion.sigma_t_min_m})
+    if (!(finite_nonnegative(s) && s <= limits::kMaxSigmaM))
+      return Fail(error, "diffusion translation sigmas must lie in [0, 10] m");
+  for (double s : {diffusion.sigma_r_rad, diffusion.sigma_r_min_rad})
+    if (!(finite_nonnegative(s) && s <= limits::kMaxSigmaRad))
+      return Fail(error, "diffusion rotation sigmas must lie in [0, 2 pi] rad");
   if (!(diffusion.anneal > 0 && diffusion.anneal <= 1)) return Fail(error, "diffusion.anneal must lie in (0, 1]");
   if (!(diffusion.flip_rate >= 0 && diffusion.flip_rate <= 1))
     return Fail(error, "diffusion.flip_rate must lie in [0, 1]");
@@ -94,19 +103,24 @@ bool EstimatorOptions::IsValid(std::string* error) const {
     return Fail(error, "appearance.trust_pixels must lie in [0, 1e6]");
   if (appearance.smooth_radius < 0 || appearance.smooth_radius > 3)
     return Fail(error, "appearance.smooth_radius must lie in [0, 3]");
-  if (appearance.ramp_iterations < 0) return Fail(error, "appearance.ramp_iterations must be >= 0");
+  if (appearance.ramp_iterations < 0 || appearance.ramp_iterations > limits::kMaxIterations)
+    return Fail(error, "appearance.ramp_iterations must lie in [0, " + std::to_string(limits::kMaxIterations) + "]");
   {
     const double steps = 360.0 / appearance.twin_step_deg;
     if (!(appearance.twin_step_deg >= 1 && appearance.twin_step_deg <= 180) ||
         std::fabs(steps - std::round(steps)) > 1e-9)
       return Fail(error, "appearance.twin_step_deg must divide 360 and lie in [1, 180]");
   }
-  if (appearance.twin_refine_iterations < 0) return Fail(error, "appearance.twin_refine_iterations must be >= 0");
+  if (appearance.twin_refine_iterations < 0 || appearance.twin_refine_iterations > limits::kMaxIterations)
+    return Fail(error, "appearance.twin_refine_iterations must lie in [0, " + std::to_string(limits::kMaxIterations) +
+                           "]");
   if (!(appearance.twin_depth_margin >= 0 && appearance.twin_depth_margin <= 1))
     return Fail(error, "appearance.twin_depth_margin must lie in [0, 1]");
 
-  if (refine.max_iterations < 0 || refine.twin_iterations < 0)
-    return Fail(error, "refine.max_iterations and refine.twin_iterations must be >= 0");
+  if (refine.max_iterations < 0 || refine.twin_iterations < 0 || refine.max_iterations > limits::kMaxIterations ||
+      refine.twin_iterations > limits::kMaxIterations)
+    return Fail(error, "refine.max_iterations and refine.twin_iterations must lie in [0, " +
+                           std::to_string(limits::kMaxIterations) + "]");
   if (!(std::isfinite(refine.tukey_m) && refine.tukey_m > 0)) return Fail(error, "refine.tukey_m must be > 0");
   if (!(std::isfinite(refine.max_distance_m) && refine.max_distance_m > 0))
     return Fail(error, "refine.max_distance_m must be > 0");
@@ -118,7 +132,9 @@ bool EstimatorOptions::IsValid(std::string* error) const {
   if (engine.pixel_stride < 1 || engine.pixel_stride > 16)
     return Fail(error, "engine.pixel_stride must lie in [1, 16], got " + std::to_string(engine.pixel_stride));
   if (engine.max_grid_pixels < 0) return Fail(error, "engine.max_grid_pixels must be >= 0 (0 = no budget)");
-  if (engine.threads < 0) return Fail(error, "engine.threads must be >= 0 (0 = all hardware threads)");
+  if (engine.threads < 0 || engine.threads > limits::kMaxThreads)
+    return Fail(error, "engine.threads must lie in [0, " + std::to_string(limits::kMaxThreads) +
+                           "] (0 = all hardware threads)");
   // Features that would have no effect: asking for them is a mistake the user should see.
   const std::string backend = RasterBackendName(engine.backend);
   if (engine.lod_unbiased && !(engine.lod_error_px > 0))

@@ -54,6 +54,16 @@ TEST(EstimatorOptions, EachInvalidFieldIsNamed) {
       {[](EstimatorOptions& o) { o.refine.accept_eps_m = NAN; }, "refine.accept_eps_m"},
       {[](EstimatorOptions& o) { o.engine.threads = -1; }, "threads"},
       {[](EstimatorOptions& o) { o.tau = INFINITY; }, "tau"},
+      // Past the practical limits (include/mcpose/options.h, namespace limits).
+      {[](EstimatorOptions& o) { o.samples = limits::kMaxSamples + 1; }, "samples"},
+      {[](EstimatorOptions& o) { o.max_iterations = 1'000'000'000; }, "max_iterations"},
+      {[](EstimatorOptions& o) { o.resample.cdf_table_size = 2'000'000'000; }, "cdf_table_size"},
+      {[](EstimatorOptions& o) { o.engine.threads = 10'000; }, "threads"},
+      {[](EstimatorOptions& o) { o.init.sigma_t_m = 1e30; }, "init.sigma_t_m"},
+      {[](EstimatorOptions& o) { o.diffusion.sigma_t_m = 1e30; }, "sigma"},
+      {[](EstimatorOptions& o) { o.diffusion.sigma_r_rad = 100; }, "sigma"},
+      {[](EstimatorOptions& o) { o.refine.max_iterations = 1'000'000'000; }, "refine.max_iterations"},
+      {[](EstimatorOptions& o) { o.appearance.twin_refine_iterations = 1'000'000'000; }, "twin_refine_iterations"},
   };
   for (const auto& [mutate, field] : cases) {
     EstimatorOptions o;

@@ -100,6 +100,8 @@ Status CheckObjText(const std::string& path, std::string_view text, int* bad_nor
       }
     } else if (keyword == "f" || keyword == "l" || keyword == "p") {
       if (n < 1) return bad("expected vertex indices");
+      // A face of one or two corners (a file cut in the middle of a line) is no triangle.
+      if (keyword == "f" && n < 3) return bad("a face needs 3 corners, this one has " + std::to_string(n));
       for (size_t k = 1; k < tokens.size(); ++k) {
         // v, v/t, v//n or v/t/n; each index a nonzero int, the texture one may be empty in v//n.
         const std::vector<std::string_view> parts = Split(tokens[k], '/');

@@ -78,6 +78,14 @@ TEST(ObjIoTest, BadInput) {
   ASSERT_FALSE(mesh.ok());
   EXPECT_NE(mesh.status().message().find(path), std::string::npos) << mesh.status().message();
 
+  // A file cut in the middle of a face line: the face's missing corners are an error, not a
+  // face dropped in silence.
+  path = WriteText("obj_cut", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4");
+  mesh = io::ReadObjMesh(path);
+  ASSERT_FALSE(mesh.ok());
+  EXPECT_NE(mesh.status().message().find(path + ": line 6: a face needs 3 corners, this one has 2"), std::string::npos)
+      << mesh.status().message();
+
   path = "/nonexistent/mcpose/model.obj";
   mesh = io::ReadObjMesh(path);
   EXPECT_EQ(mesh.status().code(), StatusCode::kNotFound);

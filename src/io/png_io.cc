@@ -10,6 +10,7 @@
 #include <exception>
 #include <filesystem>
 #include <new>
+#include <string_view>
 
 #include "core/physical_limits.h"
 #include "io/io_util.h"
@@ -69,6 +70,15 @@ void OnPngError(png_structp png, png_const_charp message) {
 
 void OnPngWarning(png_structp, png_const_charp) {}  // benign (e.g. unknown chunks): ignored
 
+// Reading, libpng reports damage it finds once every row is decoded (a zlib checksum that fails
+// after the last row, compressed data past the image) as a warning on the IDAT chunk: the pixels
+// may be wrong, so that is an error. Other warnings (unknown or ancillary chunks) are ignored.
+void OnPngReadWarning(png_structp png, png_const_charp message) {
+  const std::string_view m = message ? message : "";
+  for (std::string_view damage : {"IDAT", "data check", "compressed data", "image data", "CRC"})
+    if (m.find(damage) != std::string_view::npos) OnPngError(png, message);
+}
+
 const char* ColorTypeName(int color_type) {
   switch (color_type) {
     case PNG_COLOR_TYPE_GRAY: return "grayscale";
@@ -120,7 +130,7 @@ double RawImageBytes(const PngReadState& s) {
 // beyond what the file's bytes can hold. Everything that outlives a longjmp lives in `state`
 // (the caller's frame), so no destructor is skipped and no local is left indeterminate.
 int DecodePng(PngReadState* state, PngKind kind) {
-  png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, state, OnPngError, OnPngWarning);
+  png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, state, OnPngError, OnPngReadWarning);
   if (!png) return 1;
   png_infop info = png_create_info_struct(png);
   if (!info) {

@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include <zlib.h>
+
 #include "io/io_util.h"
 #include "test_data.h"
 
@@ -106,6 +108,35 @@ TEST(PngIoTest, CorruptPngData) {
   for (size_t i = 200; i < 260; ++i) damaged[i] = static_cast<char>(damaged[i] ^ 0x5a);
   const std::string path = (dir / "bad.png").string();
   std::ofstream(path, std::ios::binary) << damaged;
+  const Status status = io::ReadDepthPng(path, 1e-4).status();
+  ExpectErrorMentions(status, StatusCode::kDataLoss, path, "PNG");
+}
+
+// The zlib checksum at the end of the image data fails, while every chunk's CRC holds: libpng
+// notices only after the last row, as a warning; the reader refuses the file.
+TEST(PngIoTest, ZlibChecksumThatFailsAfterTheLastRowIsAnError) {
+  const auto dir = testing::TempDir("png_adler");
+  const std::string good = (dir / "good.png").string();
+  io::Gray16Image image{8, 4, std::vector<uint16_t>(32)};
+  for (size_t i = 0; i < image.values.size(); ++i) image.values[i] = static_cast<uint16_t>(1000 + 37 * i);
+  ASSERT_TRUE(io::WriteGray16Png(good, image).ok());
+  StatusOr<std::string> bytes = io::ReadFileToString(good);
+  ASSERT_TRUE(bytes.ok());
+  std::string damaged = *bytes;
+  const size_t idat = damaged.find("IDAT");
+  ASSERT_NE(idat, std::string::npos);
+  auto be32 = [&](size_t at) {
+    return (uint32_t{static_cast<uint8_t>(damaged[at])} << 24) | (uint32_t{static_cast<uint8_t>(damaged[at + 1])} << 16) |
+           (uint32_t{static_cast<uint8_t>(damaged[at + 2])} << 8) | uint32_t{static_cast<uint8_t>(damaged[at + 3])};
+  };
+  const uint32_t length = be32(idat - 4);
+  damaged[idat + 4 + length - 1] = static_cast<char>(damaged[idat + 4 + length - 1] ^ 0x01);  // the Adler-32's last byte
+  const uint32_t crc = static_cast<uint32_t>(
+      ::crc32(0, reinterpret_cast<const Bytef*>(damaged.data() + idat), static_cast<uInt>(4 + length)));
+  for (int k = 0; k < 4; ++k) damaged[idat + 4 + length + k] = static_cast<char>(crc >> (24 - 8 * k));
+  const std::string path = (dir / "adler.png").string();
+  std::ofstream(path, std::ios::binary) << damaged;
+  ASSERT_TRUE(io::ReadDepthPng(good, 1e-4).ok());
   const Status status = io::ReadDepthPng(path, 1e-4).status();
   ExpectErrorMentions(status, StatusCode::kDataLoss, path, "PNG");
 }

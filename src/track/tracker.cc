@@ -89,14 +89,18 @@ bool TrackerOptions::IsValid(std::string* error) const {
   };
   std::string inner;
   if (!estimator.IsValid(&inner)) return fail("estimator: " + inner);
-  if (samples < 1) return fail("samples must be >= 1");
-  if (iterations < 1) return fail("iterations must be >= 1");
+  if (samples < 1 || samples > limits::kMaxSamples)
+    return fail("samples must lie in [1, " + std::to_string(limits::kMaxSamples) + "]");
+  if (iterations < 1 || iterations > limits::kMaxIterations)
+    return fail("iterations must lie in [1, " + std::to_string(limits::kMaxIterations) + "]");
   if (!std::isfinite(stop_weight)) return fail("stop_weight must be finite");
-  if (!(std::isfinite(motion_sigma_t_m) && motion_sigma_t_m >= 0)) return fail("motion_sigma_t_m must be finite and >= 0");
-  if (!(std::isfinite(motion_sigma_r_rad) && motion_sigma_r_rad >= 0))
-    return fail("motion_sigma_r_rad must be finite and >= 0");
+  if (!(motion_sigma_t_m >= 0 && motion_sigma_t_m <= limits::kMaxSigmaM))
+    return fail("motion_sigma_t_m must lie in [0, 10] m");
+  if (!(motion_sigma_r_rad >= 0 && motion_sigma_r_rad <= limits::kMaxSigmaRad))
+    return fail("motion_sigma_r_rad must lie in [0, 2 pi] rad");
   if (!(box_margin >= 0 && box_margin <= 2)) return fail("box_margin must lie in [0, 2]");
-  if (refine_iterations < 0) return fail("refine_iterations must be >= 0");
+  if (refine_iterations < 0 || refine_iterations > limits::kMaxIterations)
+    return fail("refine_iterations must lie in [0, " + std::to_string(limits::kMaxIterations) + "]");
   if (!(lost_fit >= 0 && lost_fit <= 1)) return fail("lost_fit must lie in [0, 1]");
   if (!(lost_visible >= 0 && lost_visible <= 1)) return fail("lost_visible must lie in [0, 1]");
   return true;

@@ -239,6 +239,9 @@ TEST(TrackerOptions, InvalidFieldsAreNamed) {
   };
   const Case cases[] = {
       {[](TrackerOptions* o) { o->samples = 0; }, "samples"},
+      {[](TrackerOptions* o) { o->samples = 1'000'000'000; }, "samples"},
+      {[](TrackerOptions* o) { o->refine_iterations = 1'000'000'000; }, "refine_iterations"},
+      {[](TrackerOptions* o) { o->motion_sigma_t_m = 1e30; }, "motion_sigma_t_m"},
       {[](TrackerOptions* o) { o->iterations = 0; }, "iterations"},
       {[](TrackerOptions* o) { o->stop_weight = NAN; }, "stop_weight"},
       {[](TrackerOptions* o) { o->motion_sigma_t_m = -0.01; }, "motion_sigma_t_m"},
