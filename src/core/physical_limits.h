@@ -37,6 +37,13 @@ inline constexpr double kRotationTolerance = 1e-3;
 // MAT-file variables: at most this many elements (a YCB-Video meta.mat holds a few hundred).
 inline constexpr size_t kMaxMatElements = size_t{1} << 20;
 
+// Any input file: a regular file (not a device, pipe or folder, also behind a link) of at most
+// this many bytes (the largest real input, a 4096 x 4096 texture or a scan's mesh, is tens of MB).
+inline constexpr int64_t kMaxFileBytes = int64_t{1} << 31;
+
+// JSON: objects and arrays nested at most this deep (BOP files nest 3-4 levels).
+inline constexpr int kMaxJsonDepth = 64;
+
 // Detector boxes: corner and sides within this many pixels of the origin.
 inline constexpr double kMaxBoxPx = 4.0 * kMaxImageSide;
 

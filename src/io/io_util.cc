@@ -24,13 +24,30 @@ StatusOr<std::string> ReadFileToString(const std::string& path) {
   if (fs::is_directory(path, ec)) return InvalidArgument(path + ": is a directory, not a file");
   std::FILE* f = std::fopen(path.c_str(), "rb");
   if (!f) return DataLoss(path + ": cannot open file (" + std::strerror(errno) + ")");
+  // A device, a pipe (or a link to one: /dev/zero) never ends; a regular file has its size.
+  struct stat st {};
+  if (::fstat(::fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) {
+    std::fclose(f);
+    return InvalidArgument(path + ": not a regular file (a device, pipe or socket is not read)");
+  }
+  if (st.st_size > limits::kMaxFileBytes) {
+    std::fclose(f);
+    return InvalidArgument(path + ": " + std::to_string(st.st_size) + " bytes, more than the limit of " +
+                           std::to_string(limits::kMaxFileBytes) + " for an input file");
+  }
   std::string contents;
+  contents.reserve(static_cast<size_t>(st.st_size));
   char buffer[1 << 16];
   size_t n = 0;
-  while ((n = std::fread(buffer, 1, sizeof(buffer), f)) > 0) contents.append(buffer, n);
+  while (contents.size() <= static_cast<size_t>(limits::kMaxFileBytes) &&
+         (n = std::fread(buffer, 1, sizeof(buffer), f)) > 0)
+    contents.append(buffer, n);
   const bool failed = std::ferror(f) != 0;
   std::fclose(f);
   if (failed) return DataLoss(path + ": read error");
+  if (contents.size() > static_cast<size_t>(limits::kMaxFileBytes))
+    return InvalidArgument(path + ": grew past the limit of " + std::to_string(limits::kMaxFileBytes) +
+                           " bytes while being read");
   return contents;
 }
 

@@ -9,6 +9,8 @@
 
 #include <gtest/gtest.h>
 
+#include "core/physical_limits.h"
+#include "io/json_util.h"
 #include "test_data.h"
 
 namespace mcpose::io {
@@ -76,6 +78,31 @@ TEST(CreateBeside, FreshNamesEachTimeWithTheUsersPermissions) {
   ::close(f->fd);
   EXPECT_EQ(Mode(f->path), 0666 & ~Umask());
   EXPECT_EQ(CreateFolderBeside((dir / "missing" / "x").string(), ".tmp-").status().code(), StatusCode::kNotFound);
+}
+
+// A device (or a link to one) never ends: refused, not read until memory runs out.
+TEST(ReadFileToString, RefusesDevicesAndLinksToThem) {
+  const fs::path dir = testing::TempDir("read_devices");
+  fs::create_symlink("/dev/zero", dir / "depth.png");
+  for (const std::string& path : {std::string("/dev/zero"), (dir / "depth.png").string()}) {
+    const StatusOr<std::string> text = ReadFileToString(path);
+    ASSERT_FALSE(text.ok()) << path;
+    EXPECT_EQ(text.status().code(), StatusCode::kInvalidArgument);
+    EXPECT_NE(text.status().message().find(path + ": not a regular file"), std::string::npos)
+        << text.status().message();
+  }
+}
+
+TEST(ReadJsonFile, RefusesNestingPastTheLimit) {
+  const fs::path dir = testing::TempDir("json_deep");
+  const int ok_depth = limits::kMaxJsonDepth - 1;
+  std::ofstream(dir / "ok.json") << std::string(ok_depth, '[') << std::string(ok_depth, ']');
+  EXPECT_TRUE(ReadJsonFile((dir / "ok.json").string()).ok());
+  std::ofstream(dir / "deep.json") << std::string(100000, '[') << std::string(100000, ']');
+  const StatusOr<nlohmann::json> deep = ReadJsonFile((dir / "deep.json").string());
+  ASSERT_FALSE(deep.ok());
+  EXPECT_NE(deep.status().message().find("deep.json: JSON nested more than 64 levels deep"), std::string::npos)
+      << deep.status().message();
 }
 
 }  // namespace

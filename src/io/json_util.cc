@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "core/physical_limits.h"
 #include "io/io_util.h"
 
 namespace mcpose::io {
@@ -18,14 +19,20 @@ struct DuplicateKey : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// Thrown by the parser callback past limits::kMaxJsonDepth levels of nesting.
+struct TooDeep : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 }  // namespace
 
 StatusOr<nlohmann::json> ReadJsonFile(const std::string& path) {
   MCPOSE_ASSIGN_OR_RETURN(std::string text, ReadFileToString(path));
   // The keys of each open object, innermost last.
   std::vector<std::set<std::string>> open_objects;
-  const auto check_keys = [&](int, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
+  const auto check_keys = [&](int depth, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
     using Event = nlohmann::json::parse_event_t;
+    if (depth > limits::kMaxJsonDepth) throw TooDeep("");
     if (event == Event::object_start) {
       open_objects.emplace_back();
     } else if (event == Event::object_end) {
@@ -38,6 +45,8 @@ StatusOr<nlohmann::json> ReadJsonFile(const std::string& path) {
   };
   try {
     return nlohmann::json::parse(text, check_keys);
+  } catch (const TooDeep&) {
+    return DataLoss(path + ": JSON nested more than " + std::to_string(limits::kMaxJsonDepth) + " levels deep");
   } catch (const DuplicateKey& e) {
     return DataLoss(path + ": duplicate key '" + e.what() + "' in one object");
   } catch (const std::exception& e) {

@@ -141,6 +141,22 @@ Status ParseHeader(const std::string& path, const std::string& bytes, PlyHeader*
   }
   if (!saw_format) return DataLoss(path + ": PLY header has no format line");
   header->body_offset = pos;
+  // Each item takes at least a byte of the body (binary: its scalars and list counts; ascii: a
+  // character): the counts must fit what follows the header, and an element with items but no
+  // properties has nothing to read.
+  const size_t body = bytes.size() - pos;
+  size_t least = 0;
+  for (const PlyElement& e : header->elements) {
+    if (e.count > 0 && e.properties.empty())
+      return DataLoss(path + ": PLY element '" + e.name + "' has " + std::to_string(e.count) + " items but no properties");
+    size_t item = 0;
+    for (const PlyProperty& p : e.properties) item += TypeSize(p.is_list ? p.count_type : p.type);
+    least += e.count * (header->binary ? item : 1);
+    if (least > body)
+      return DataLoss(path + ": truncated or forged: the PLY header declares more items than the file's " +
+                      std::to_string(body) + " bytes of data can hold (element '" + e.name + "', " +
+                      std::to_string(e.count) + " items)");
+  }
   return Status::Ok();
 }
 

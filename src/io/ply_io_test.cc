@@ -174,6 +174,14 @@ TEST(PlyIoTest, BadInput) {
                    "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n");
   ExpectError(io::ReadPlyMesh(path), path, "vertex index 7 is not an integer in [0, 3)");
 
+  // Counts the body cannot hold, or items with nothing to read, are refused at the header.
+  path = WriteText("ply_huge_count", "ply\nformat binary_little_endian 1.0\nelement vertex 2147483647\n"
+                                     "property float x\nproperty float y\nproperty float z\nend_header\n0123");
+  ExpectError(io::ReadPlyMesh(path), path, "declares more items than the file's 4 bytes");
+  path = WriteText("ply_no_properties", "ply\nformat binary_little_endian 1.0\nelement junk 2147483647\n"
+                                        "element vertex 0\nproperty float x\nend_header\n");
+  ExpectError(io::ReadPlyMesh(path), path, "element 'junk' has 2147483647 items but no properties");
+
   path = WriteText("ply_no_header_end", "ply\nformat ascii 1.0\nelement vertex 3\n");
   ExpectError(io::ReadPlyMesh(path), path, "end_header");
 }
