@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "cli/common.h"
+#include "core/physical_limits.h"
 #include "engine/box_scorer.h"
 #include "engine/pipeline.h"
 #include "io/options_json.h"
@@ -107,6 +108,8 @@ std::vector<Detection> DetectionsFromPython(const py::iterable& list) {
     if (d.contains("scene_id")) det.scene_id = d["scene_id"].cast<int>();
     if (d.contains("image_id")) det.image_id = d["image_id"].cast<int>();
     if (d.contains("time") && !d["time"].is_none()) det.time_s = d["time"].cast<double>();
+    if (const std::string problem = CheckDetection(det); !problem.empty())
+      throw py::value_error(where + ": " + problem);
     out.push_back(det);
   }
   return out;
@@ -197,8 +200,13 @@ py::array ColourArray(ColourImage image) {
   return a;
 }
 
-ColourImage ColourFromPython(const py::array_t<uint8_t, py::array::c_style | py::array::forcecast>& rgb,
-                             int width, int height) {
+ColourImage ColourFromPython(const py::array& array, int width, int height) {
+  // uint8 only: a float image (0-1 or 0-255) cast silently would be garbage, NaN included.
+  if (array.dtype().kind() != 'u' || array.dtype().itemsize() != 1)
+    throw py::value_error("rgb: expected a uint8 array of shape (" + std::to_string(height) + ", " +
+                          std::to_string(width) + ", 3) or (..., 4), got dtype " +
+                          py::str(array.dtype()).cast<std::string>());
+  const auto rgb = py::array_t<uint8_t, py::array::c_style | py::array::forcecast>::ensure(array);
   if (rgb.ndim() != 3 || (rgb.shape(2) != 3 && rgb.shape(2) != 4) || rgb.shape(0) != height ||
       rgb.shape(1) != width)
     throw py::value_error("rgb: expected a uint8 array of shape (" + std::to_string(height) + ", " +
@@ -337,17 +345,37 @@ py::dict StepDict(const TrackStep& s) {
   return o;
 }
 
-// Depth and intrinsics from numpy arrays, checked as the estimator's array entry point checks them.
-std::pair<Intrinsics, DepthImage> DepthFromPython(const py::array_t<float, py::array::c_style | py::array::forcecast>& depth,
-                                                  const py::array_t<double, py::array::c_style | py::array::forcecast>& K) {
+// Depth and intrinsics from numpy arrays, checked by the same functions as the readers' (the
+// limits of src/core/physical_limits.h): depth float32 or float64 in metres, each value 0 (no
+// measurement) or positive and finite up to 100 m; K a pinhole matrix within the readers' limits.
+std::pair<Intrinsics, DepthImage> DepthFromPython(const py::array& depth_array, const py::array& K_array) {
+  const char kind = depth_array.dtype().kind();
+  if (kind != 'f') {
+    std::string message = "depth: expected float32 or float64 metres, got dtype " +
+                          py::str(depth_array.dtype()).cast<std::string>();
+    if (kind == 'u' || kind == 'i')
+      message += "; a depth image in sensor units must be scaled to metres first (e.g. depth * 1e-4 for 0.1 mm "
+                 "units, depth * 1e-3 for millimetres)";
+    throw py::value_error(message);
+  }
+  if (K_array.dtype().kind() != 'f' && K_array.dtype().kind() != 'i' && K_array.dtype().kind() != 'u')
+    throw py::value_error("K: expected a 3x3 array of numbers, got dtype " + py::str(K_array.dtype()).cast<std::string>());
+  const auto depth = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(depth_array);
+  const auto K = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(K_array);
   if (depth.ndim() != 2) throw py::value_error("depth: expected a float32 array of shape (H, W), metres");
   if (K.ndim() != 2 || K.shape(0) != 3 || K.shape(1) != 3)
     throw py::value_error("K: expected a 3x3 array [[fx, 0, cx], [0, fy, cy], [0, 0, 1]], pixels");
+  const int height = static_cast<int>(depth.shape(0)), width = static_cast<int>(depth.shape(1));
+  if (width < 1 || height < 1 || width > limits::kMaxImageSide || height > limits::kMaxImageSide)
+    throw py::value_error("depth: " + std::to_string(width) + "x" + std::to_string(height) + " pixels; each side 1-" +
+                          std::to_string(limits::kMaxImageSide));
+  if (const std::string problem = limits::CheckPinholeMatrix(K.data(), width, height); !problem.empty())
+    throw py::value_error("K: " + problem);
+  if (const std::string problem = limits::CheckDepthMetres(depth.data(), width, height); !problem.empty())
+    throw py::value_error("depth: " + problem);
   Intrinsics intr;
   intr.fx = K.at(0, 0), intr.fy = K.at(1, 1), intr.cx = K.at(0, 2), intr.cy = K.at(1, 2);
-  intr.height = static_cast<int>(depth.shape(0)), intr.width = static_cast<int>(depth.shape(1));
-  std::string error;
-  if (!intr.IsValid(&error)) throw py::value_error("K: " + error);
+  intr.height = height, intr.width = width;
   DepthImage d;
   d.width = intr.width, d.height = intr.height;
   d.depth_m.assign(depth.data(), depth.data() + depth.size());
@@ -480,9 +508,8 @@ PYBIND11_MODULE(_mcpose, m) {
       }))
       .def_property_readonly("options_json", [](const PyEstimator& s) { return io::OptionsToJson(s.options).dump(); })
       .def("estimate",
-           [](PyEstimator& self, const py::array_t<float, py::array::c_style | py::array::forcecast>& depth,
-              const py::array_t<double, py::array::c_style | py::array::forcecast>& K, const py::iterable& detections,
-              const py::dict& meshes, const std::optional<py::array_t<uint8_t, py::array::c_style | py::array::forcecast>>& rgb,
+           [](PyEstimator& self, const py::array& depth, const py::array& K, const py::iterable& detections,
+              const py::dict& meshes, const std::optional<py::array>& rgb,
               std::optional<uint64_t> seed) {
              auto [intr, d] = DepthFromPython(depth, K);
              std::optional<ColourImage> colour;
@@ -557,9 +584,8 @@ PYBIND11_MODULE(_mcpose, m) {
         s.tracker->Reset(obj_id);
       })
       .def("track",
-           [](PyTracker& self, const py::array_t<float, py::array::c_style | py::array::forcecast>& depth,
-              const py::array_t<double, py::array::c_style | py::array::forcecast>& K, const PyMesh& mesh, int obj_id,
-              const py::iterable& boxes, const std::optional<py::array_t<uint8_t, py::array::c_style | py::array::forcecast>>& rgb,
+           [](PyTracker& self, const py::array& depth, const py::array& K, const PyMesh& mesh, int obj_id,
+              const py::iterable& boxes, const std::optional<py::array>& rgb,
               uint64_t stream_id) {
              auto [intr, d] = DepthFromPython(depth, K);
              std::optional<ColourImage> colour;

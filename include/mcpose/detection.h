@@ -22,6 +22,11 @@ struct Detection {
 // messages.
 std::string BoxText(const Detection& d);
 
+// Empty if `d` is a valid detection (ids >= 0, category_id >= 1, score in [0, 1], a box of
+// positive finite size within limits::kMaxBoxPx, finite time), else what is wrong with it. The
+// detections reader and the Python entry points check each detection here.
+std::string CheckDetection(const Detection& d);
+
 // Reads a BOP detections JSON file: a list of {"scene_id", "image_id", "category_id", "score",
 // "bbox": [x, y, w, h], "time" (optional)}. Errors name the file and the offending entry.
 StatusOr<std::vector<Detection>> ReadDetectionsJson(const std::string& path);

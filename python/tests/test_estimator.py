@@ -155,6 +155,36 @@ def test_bad_input_raises_cli_message(ycbv, tmp_path):
         mcpose.Estimator().estimate(frame.depth, frame.K, good, {})
     with pytest.raises(ValueError, match="rgb: expected a uint8 array"):
         mcpose.Estimator().estimate(frame.depth, frame.K, good, meshes, rgb=np.zeros((10, 10, 3), np.uint8))
+    # The arrays are checked as the readers check the files: the same limits, the same words.
+    depth = np.array(frame.depth)
+    bad_arrays = []
+    raw = (depth * 1e4).astype(np.uint16)
+    bad_arrays.append(((raw, frame.K), "depth: expected float32 or float64 metres, got dtype uint16; a depth image "
+                                       "in sensor units must be scaled to metres first"))
+    for value in (np.nan, np.inf, -0.5, 1e30):
+        d = depth.copy()
+        d[240, 320] = value
+        bad_arrays.append(((d, frame.K), "depth: pixel \\(320, 240\\) = "))
+    bad_arrays.append(((depth.astype(object), frame.K), "depth: expected float32 or float64 metres, got dtype object"))
+    for (i, j), value, message in (((0, 1), 5.0, "not a pinhole matrix"), ((0, 0), 1e12, "fx = 1e\\+12 px is outside"),
+                                   ((1, 1), 1e-6, "fy = 1e-06 px is outside"), ((0, 2), 1e9, "principal point"),
+                                   ((0, 0), np.nan, "is not finite")):
+        K = np.array(frame.K)
+        K[i, j] = value
+        bad_arrays.append(((depth, K), "K: .*" + message))
+    for (d, K), message in bad_arrays:
+        with pytest.raises(ValueError, match=message):
+            mcpose.Estimator().estimate(d, K, good, meshes)
+    for bad, message in (({**good[0], "score": 3.0}, "score must be a finite number in \\[0, 1\\], got 3"),
+                         ({**good[0], "bbox": (10.0, 10.0, 1e300, 20.0)}, "has a value outside")):
+        with pytest.raises(ValueError, match=message):
+            mcpose.Estimator().estimate(frame.depth, frame.K, good[1:] + [bad], meshes)
+    with pytest.raises(ValueError, match="rgb: expected a uint8 array .* got dtype float64"):
+        mcpose.Estimator().estimate(frame.depth, frame.K, good, meshes,
+                                    rgb=np.full(frame.depth.shape + (3,), np.nan))
+    tracker = mcpose.Tracker()
+    with pytest.raises(ValueError, match="score must be a finite number"):
+        tracker.track_frame(frame, [{**good[0], "score": 3.0}], ycbv)
 
 
 def test_eval_metrics(ycbv):

@@ -94,4 +94,35 @@ inline std::string CheckRotation(const Eigen::Matrix3d& R) {
   return text;
 }
 
+// A pinhole camera matrix K (row-major 3 x 3, pixels) for an image of width x height:
+// [fx 0 cx; 0 fy cy; 0 0 1], focal lengths within kMinFocalPx-kMaxFocalPx, the principal point
+// inside the image. Empty if K is one, else the problem. Every reader of intrinsics and the
+// Python entry points check K here.
+inline std::string CheckPinholeMatrix(const double* K, int width, int height) {
+  for (int i = 0; i < 9; ++i)
+    if (!std::isfinite(K[i]))
+      return "K[" + std::to_string(i / 3) + "][" + std::to_string(i % 3) + "] = " + Num(K[i]) + " is not finite";
+  if (K[1] != 0 || K[3] != 0 || K[6] != 0 || K[7] != 0 || K[8] != 1)
+    return "not a pinhole matrix [fx 0 cx; 0 fy cy; 0 0 1] (no skew, last row 0 0 1)";
+  if (std::string problem = CheckFocal("fx", K[0]); !problem.empty()) return problem;
+  if (std::string problem = CheckFocal("fy", K[4]); !problem.empty()) return problem;
+  if (!(K[2] >= 0 && K[2] <= width && K[5] >= 0 && K[5] <= height))
+    return "principal point (" + Num(K[2]) + ", " + Num(K[5]) + ") lies outside the " + std::to_string(width) + "x" +
+           std::to_string(height) + " image";
+  return {};
+}
+
+// Depth in metres, row-major width x height: each value 0 (no measurement) or positive and finite
+// up to kMaxDepthRangeM. Empty if every value is, else the first that is not.
+inline std::string CheckDepthMetres(const float* depth, int width, int height) {
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const float v = depth[static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)];
+      if (!(v >= 0 && v <= kMaxDepthRangeM))
+        return "pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") = " + Num(v) +
+               " m; depth is 0 (no measurement) or positive and finite up to " + Num(kMaxDepthRangeM) + " m";
+    }
+  return {};
+}
+
 }  // namespace mcpose::limits

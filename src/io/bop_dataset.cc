@@ -231,17 +231,9 @@ class BopDataset final : public Dataset {
     const double* K = cam->second.K;
     frame.K = {K[0], K[4], K[2], K[5], frame.depth.width, frame.depth.height};
     const std::string where = camera_path + ": image " + std::to_string(key.image_id) + ": cam_K: ";
-    std::string error;
-    if (!frame.K.IsValid(&error)) return InvalidArgument(where + error);
-    if (K[1] != 0 || K[3] != 0 || K[6] != 0 || K[7] != 0 || K[8] != 1) {
-      return InvalidArgument(where + "not a pinhole matrix [fx 0 cx, 0 fy cy, 0 0 1]");
-    }
-    if (!(frame.K.cx >= 0 && frame.K.cx <= frame.K.width && frame.K.cy >= 0 &&
-          frame.K.cy <= frame.K.height)) {
-      return InvalidArgument(where + "principal point lies outside the " +
-                             std::to_string(frame.K.width) + "x" + std::to_string(frame.K.height) +
-                             " depth image " + frame.depth_path);
-    }
+    if (const std::string problem = limits::CheckPinholeMatrix(K, frame.depth.width, frame.depth.height);
+        !problem.empty())
+      return InvalidArgument(where + problem + " (depth image " + frame.depth_path + ")");
     // The colour image, where it is a PNG, must have the depth's size.
     const std::string rgb_path = scene_dir + "/rgb/" + Id6(key.image_id) + ".png";
     std::error_code rgb_ec;

@@ -21,27 +21,6 @@ std::string Number(double v) {
   return text;
 }
 
-// Empty if `d` is a valid detection, else what is wrong with it.
-std::string CheckDetection(const Detection& d) {
-  if (d.scene_id < 0 || d.image_id < 0) return "scene_id and image_id must be >= 0";
-  if (d.obj_id < 1) return "category_id must be a positive integer";
-  if (!std::isfinite(d.score) || d.score < 0 || d.score > 1) {
-    return "score must be a finite number in [0, 1], got " + Number(d.score);
-  }
-  if (!std::isfinite(d.x) || !std::isfinite(d.y) || !std::isfinite(d.w) || !std::isfinite(d.h)) {
-    return "bbox must have 4 finite numbers";
-  }
-  if (!(d.w > 0) || !(d.h > 0)) {
-    return "bbox width and height must be positive, got " + BoxText(d);
-  }
-  for (double v : {d.x, d.y, d.w, d.h}) {
-    if (std::abs(v) > limits::kMaxBoxPx)
-      return "bbox " + BoxText(d) + " has a value outside +-" + Number(limits::kMaxBoxPx) + " px";
-  }
-  if (!std::isfinite(d.time_s)) return "time must be finite";
-  return {};
-}
-
 // Parses one entry; empty string on success, else the problem.
 std::string ParseEntry(const json& entry, Detection* d) {
   if (!entry.is_object()) return "expected an object";
@@ -74,6 +53,26 @@ std::string ParseEntry(const json& entry, Detection* d) {
 }
 
 }  // namespace
+
+std::string CheckDetection(const Detection& d) {
+  if (d.scene_id < 0 || d.image_id < 0) return "scene_id and image_id must be >= 0";
+  if (d.obj_id < 1) return "category_id must be a positive integer";
+  if (!std::isfinite(d.score) || d.score < 0 || d.score > 1) {
+    return "score must be a finite number in [0, 1], got " + Number(d.score);
+  }
+  if (!std::isfinite(d.x) || !std::isfinite(d.y) || !std::isfinite(d.w) || !std::isfinite(d.h)) {
+    return "bbox must have 4 finite numbers";
+  }
+  if (!(d.w > 0) || !(d.h > 0)) {
+    return "bbox width and height must be positive, got " + BoxText(d);
+  }
+  for (double v : {d.x, d.y, d.w, d.h}) {
+    if (std::abs(v) > limits::kMaxBoxPx)
+      return "bbox " + BoxText(d) + " has a value outside +-" + Number(limits::kMaxBoxPx) + " px";
+  }
+  if (!std::isfinite(d.time_s)) return "time must be finite";
+  return {};
+}
 
 std::string BoxText(const Detection& d) {
   return "[" + Number(d.x) + ", " + Number(d.y) + ", " + Number(d.w) + ", " + Number(d.h) + "]";

@@ -288,19 +288,11 @@ class YcbvDataset final : public Dataset {
     // Intrinsics: a pinhole K (zero skew, last row 0 0 1) with the principal point in the image.
     const Eigen::Matrix3d& K = meta.K;
     frame.K = {K(0, 0), K(1, 1), K(0, 2), K(1, 2), frame.depth.width, frame.depth.height};
-    std::string error;
-    if (!frame.K.IsValid(&error)) {
-      return InvalidArgument(meta_path + ": intrinsic_matrix: " + error);
-    }
-    if (K(0, 1) != 0 || K(1, 0) != 0 || K(2, 0) != 0 || K(2, 1) != 0 || K(2, 2) != 1) {
-      return InvalidArgument(meta_path + ": intrinsic_matrix is not a pinhole matrix " +
-                             "[fx 0 cx; 0 fy cy; 0 0 1]");
-    }
-    if (!(frame.K.cx >= 0 && frame.K.cx <= frame.K.width && frame.K.cy >= 0 &&
-          frame.K.cy <= frame.K.height)) {
-      return InvalidArgument(frame.depth_path + ": image size " + std::to_string(frame.K.width) +
-                             "x" + std::to_string(frame.K.height) +
-                             " does not contain the principal point of " + meta_path);
+    {
+      const double rows[9] = {K(0, 0), K(0, 1), K(0, 2), K(1, 0), K(1, 1), K(1, 2), K(2, 0), K(2, 1), K(2, 2)};
+      if (const std::string problem = limits::CheckPinholeMatrix(rows, frame.depth.width, frame.depth.height);
+          !problem.empty())
+        return InvalidArgument(meta_path + ": intrinsic_matrix: " + problem + " (depth image " + frame.depth_path + ")");
     }
 
     // The colour and label images of the frame, where present, must have the depth's size.
