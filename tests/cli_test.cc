@@ -127,6 +127,23 @@ TEST(Cli, OutputsNeitherOverwriteInputsNorFollowLinks) {
   EXPECT_TRUE(testing::LeftBeside(dir / "r.csv").empty());
 }
 
+// A seed outside 0..2^64-1 is refused, not wrapped around to another seed.
+TEST(Cli, SeedsOutsideTheirRangeAreRefused) {
+  const fs::path dir = testing::TempDir("seed_range");
+  for (const char* seed : {"-1", "18446744073709551616", "1e3", "seven"}) {
+    const CliResult r = RunCli("detections-from-gt --dataset " + testing::YcbvDir() + " --out " +
+                                   (dir / "d.json").string() + " --seed " + seed,
+                               dir);
+    EXPECT_NE(r.exit_code, 0) << seed;
+    EXPECT_NE(r.err.find("a seed is a whole number from 0 to 18446744073709551615"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "d.json")) << seed;
+  }
+  const CliResult ok = RunCli("detections-from-gt --dataset " + testing::YcbvDir() + " --out " +
+                                  (dir / "d.json").string() + " --seed 18446744073709551615",
+                              dir);
+  EXPECT_EQ(ok.exit_code, 0) << ok.err;
+}
+
 std::string PatchSceneCamera(const fs::path& bop, double fx) {
   const fs::path p = bop / "test/000049/scene_camera.json";
   std::string text = ReadText(p);

@@ -35,6 +35,7 @@ struct MissesArgs {
 Status RunMisses(MissesArgs& a) {
   MCPOSE_RETURN_IF_ERROR(a.flags.Finish());
   if (!(a.min_adds_mm >= 0)) return InvalidArgument("--min-adds-mm must be >= 0");
+  MCPOSE_RETURN_IF_ERROR(cli::CheckOutputsDistinct({{"--detections", a.detections}, {"--results", a.results}}, {{"--json", a.json}}));
   if (!a.json.empty()) MCPOSE_RETURN_IF_ERROR(CheckWritable(a.json));
   const EstimatorOptions& o = a.flags.options;
   MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<Dataset> dataset, Dataset::Open(a.dataset, a.split, a.models));

@@ -94,7 +94,7 @@ void AddRefineFloorCommand(CLI::App& app, Status* status) {
       ->capture_default_str();
   cmd->add_option("--box-margin", args->floor.box_margin, "Visible-mask box grown by this share of its size per side")
       ->capture_default_str();
-  cmd->add_option("--seed", args->floor.seed, "Seed of the random starts")->capture_default_str();
+  cmd->add_option("--seed", args->floor.seed, "Seed of the random starts")->check(cli::SeedCheck())->capture_default_str();
   cmd->add_option("--iterations", args->refine.max_iterations, "Alignment steps (the estimator's --refine-iterations)")
       ->capture_default_str();
   cmd->add_option("--tukey", args->refine.tukey_m, "Robust loss scale of the alignment, metres")->capture_default_str();

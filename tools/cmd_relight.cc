@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/common.h"
 #include "core/rng.h"
 #include "io/io_util.h"
 #include "io/png_io.h"
@@ -110,7 +111,7 @@ void AddRelightCommand(CLI::App& app, Status* status) {
                   "none, exposure:G (linear light times G), gamma:G, white-balance:R,G,B (linear gains), "
                   "saturation:F, clip:L (values above L * 255 clipped), jpeg:Q (quality), noise:S (levels)")
       ->required();
-  cmd->add_option("--seed", args->seed, "Seed of the noise")->capture_default_str();
+  cmd->add_option("--seed", args->seed, "Seed of the noise")->check(cli::SeedCheck())->capture_default_str();
   cmd->callback([args, status] { *status = RunRelight(*args); });
 }
 

@@ -45,6 +45,7 @@ Status RunTwinMargin(TwinMarginArgs& a) {
   a.margin.right_m = a.right_mm / 1000, a.margin.wrong_m = a.wrong_mm / 1000;
   std::string error;
   if (!a.margin.IsValid(&error)) return InvalidArgument("invalid margin options: " + error);
+  MCPOSE_RETURN_IF_ERROR(cli::CheckOutputsDistinct({{"--results", a.results}}, {{"--json", a.json}}));
   if (!a.json.empty()) MCPOSE_RETURN_IF_ERROR(CheckWritable(a.json));
   MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<Dataset> dataset, Dataset::Open(a.dataset, a.split, a.models));
   engine::Context context(a.flags.options);

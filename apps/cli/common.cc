@@ -1,5 +1,7 @@
 #include "cli/common.h"
 
+#include <charconv>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -15,7 +17,9 @@ void AddEstimatorFlags(CLI::App* cmd, unsigned groups, EstimatorFlags* f) {
   EstimatorOptions& o = f->options;
   if (groups & kSamplingFlags) {
     cmd->add_option("--samples", o.samples, "Samples per object class per image")->capture_default_str();
-    cmd->add_option("--seed", o.seed, "Random seed; same seed, same results at any thread count")->capture_default_str();
+    cmd->add_option("--seed", o.seed, "Random seed; same seed, same results at any thread count")
+        ->check(SeedCheck())
+        ->capture_default_str();
   }
   if (groups & kStoppingFlags) {
     cmd->add_option("--iterations", o.max_iterations, "Iteration limit")->capture_default_str();
@@ -296,6 +300,21 @@ bool SameFile(const std::string& a, const std::string& b) {
 }
 
 }  // namespace
+
+const CLI::Validator& SeedCheck() {
+  static const CLI::Validator check(
+      [](std::string& text) -> std::string {
+        uint64_t value = 0;
+        const char* end = text.data() + text.size();
+        const auto [ptr, ec] = std::from_chars(text.data(), end, value);
+        if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos || ec != std::errc() ||
+            ptr != end)
+          return "a seed is a whole number from 0 to 18446744073709551615, got '" + text + "'";
+        return {};
+      },
+      "SEED", "seed");
+  return check;
+}
 
 Status CheckOutputsDistinct(std::initializer_list<PathArg> inputs, std::initializer_list<PathArg> outputs) {
   for (auto out = outputs.begin(); out != outputs.end(); ++out) {

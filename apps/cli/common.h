@@ -67,6 +67,10 @@ bool IsEstimatorSwitch(const std::string& name);
 // Removes the output file at `path` (if any; empty: nothing), when a later output failed.
 void RemoveOutput(const std::string& path);
 
+// The check of every --seed: decimal digits that fit 64 bits. CLI11 alone would wrap -1 and
+// 2^64 around to other seeds.
+const CLI::Validator& SeedCheck();
+
 // Ok if a file could be created at `path` (its folder exists and is writable).
 Status CheckWritable(const std::string& path);
 

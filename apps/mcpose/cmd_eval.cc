@@ -131,7 +131,7 @@ void AddDetectionsFromGtCommand(CLI::App& app, Status* status) {
   cmd->add_option("--out", args->out, "Detections JSON to write (BOP default-detections format)")->required();
   cmd->add_option("--jitter", args->options.jitter, "Each side moves by up to this fraction of the box size")->capture_default_str();
   cmd->add_option("--distractors", args->options.distractors, "Probability of an extra same-class box elsewhere")->capture_default_str();
-  cmd->add_option("--seed", args->options.seed, "Random seed")->capture_default_str();
+  cmd->add_option("--seed", args->options.seed, "Random seed")->check(SeedCheck())->capture_default_str();
   cmd->callback([args, status] { *status = RunDetectionsFromGt(*args); });
 }
 

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/common.h"
 #include "commands.h"
 #include "io/json_util.h"
 #include "synth/dataset.h"
@@ -76,7 +77,9 @@ void AddSynthCommand(CLI::App& app, Status* status) {
   cmd->add_option("--out", args->out, "Dataset folder to write (must not exist); written whole or not at all")
       ->required();
   cmd->add_option("--frames", args->options.frames, "Frames to make")->capture_default_str();
-  cmd->add_option("--seed", args->options.seed, "Seed: the same seed, the same dataset")->capture_default_str();
+  cmd->add_option("--seed", args->options.seed, "Seed: the same seed, the same dataset")
+      ->check(SeedCheck())
+      ->capture_default_str();
   cmd->add_option("--objects", args->objects, "The least and the most objects a frame")->expected(2)->capture_default_str();
   cmd->add_option("--distance", args->distance, "Nearest and farthest object from the camera, metres")
       ->expected(2)
