@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdio>
 #include <vector>
 
+#include "core/physical_limits.h"
 #include "core/rng.h"
 #include "io/io_util.h"
 #include "io/jpeg_io.h"
@@ -15,12 +15,6 @@ namespace mcpose::synth {
 namespace {
 
 constexpr uint64_t kNoiseStream = 0x9015e;
-
-std::string Number(double v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%g", v);
-  return text;
-}
 
 uint8_t Clip8(double v) { return static_cast<uint8_t>(std::clamp(std::lround(v), 0l, 255l)); }
 
@@ -53,14 +47,14 @@ uint8_t LinearToSrgb(double linear) {
 std::string PhotometricTransform::ToString() const {
   switch (kind) {
     case Kind::kNone: return "none";
-    case Kind::kExposure: return "exposure:" + Number(gain[0]);
-    case Kind::kGamma: return "gamma:" + Number(gamma);
+    case Kind::kExposure: return "exposure:" + limits::Num(gain[0]);
+    case Kind::kGamma: return "gamma:" + limits::Num(gamma);
     case Kind::kWhiteBalance:
-      return "white-balance:" + Number(gain[0]) + "," + Number(gain[1]) + "," + Number(gain[2]);
-    case Kind::kSaturation: return "saturation:" + Number(factor);
-    case Kind::kClip: return "clip:" + Number(level);
+      return "white-balance:" + limits::Num(gain[0]) + "," + limits::Num(gain[1]) + "," + limits::Num(gain[2]);
+    case Kind::kSaturation: return "saturation:" + limits::Num(factor);
+    case Kind::kClip: return "clip:" + limits::Num(level);
     case Kind::kJpeg: return "jpeg:" + std::to_string(quality);
-    case Kind::kNoise: return "noise:" + Number(sigma);
+    case Kind::kNoise: return "noise:" + limits::Num(sigma);
   }
   return "none";
 }
@@ -86,7 +80,7 @@ StatusOr<PhotometricTransform> ParsePhotometricTransform(const std::string& spel
     if (values.size() != 1) return bad("expects one number");
     const double v = values[0];
     if ((open_lo ? v <= lo : v < lo) || v > hi)
-      return bad(Number(v) + " is not in " + (open_lo ? "(" : "[") + Number(lo) + ", " + Number(hi) + "]");
+      return bad(limits::Num(v) + " is not in " + (open_lo ? "(" : "[") + limits::Num(lo) + ", " + limits::Num(hi) + "]");
     *out = v;
     return Status::Ok();
   };
@@ -102,7 +96,7 @@ StatusOr<PhotometricTransform> ParsePhotometricTransform(const std::string& spel
     t.kind = PhotometricTransform::Kind::kWhiteBalance;
     if (values.size() != 3) return bad("expects three gains, red, green, blue");
     for (int c = 0; c < 3; ++c) {
-      if (values[c] <= 0 || values[c] > 16) return bad("gain " + Number(values[c]) + " is not in (0, 16]");
+      if (values[c] <= 0 || values[c] > 16) return bad("gain " + limits::Num(values[c]) + " is not in (0, 16]");
       t.gain[c] = values[c];
     }
   } else if (name == "saturation") {
