@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <optional>
+#include <tuple>
 #include <set>
 #include <vector>
 
@@ -42,6 +44,33 @@ std::vector<Eigen::Vector3d> Transform(const std::vector<Eigen::Vector3f>& point
   return out;
 }
 
+// The distinct points of `points_m` and how often each occurs, or nothing when every point is
+// distinct (the real points files). A KD-tree over points that repeat (a file with each point
+// written hundreds of times) cannot split them and searches whole runs of equal points; over the
+// distinct ones every search stays O(log n), so ADD-S costs O(n log n) in the distinct points.
+struct Multiset {
+  std::vector<Eigen::Vector3f> points;
+  std::vector<double> count;
+};
+std::optional<Multiset> RepeatedPoints(const std::vector<Eigen::Vector3f>& points_m) {
+  const auto less = [](const Eigen::Vector3f& a, const Eigen::Vector3f& b) {
+    return std::tie(a.x(), a.y(), a.z()) < std::tie(b.x(), b.y(), b.z());
+  };
+  std::vector<Eigen::Vector3f> sorted = points_m;
+  std::sort(sorted.begin(), sorted.end(), less);
+  if (std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end()) return std::nullopt;
+  Multiset m;
+  for (const Eigen::Vector3f& p : sorted) {
+    if (!m.points.empty() && m.points.back() == p) {
+      m.count.back() += 1;
+    } else {
+      m.points.push_back(p);
+      m.count.push_back(1);
+    }
+  }
+  return m;
+}
+
 }  // namespace
 
 // An empty point set gives 0 (there is no point to be wrong about); Evaluate rejects empty
@@ -64,6 +93,21 @@ double AddS(const std::vector<Eigen::Vector3f>& points_m, const SE3& T_est, cons
     return INFINITY;
   }
 
+  if (const std::optional<Multiset> repeated = RepeatedPoints(points_m)) {
+    // Each distinct point once, weighted by how often it occurs: the same mean.
+    const std::vector<Eigen::Vector3d> est = Transform(repeated->points, T_est);
+    const PointCloudAdaptor adaptor{est};
+    const KdTree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(/*leaf_max_size=*/10));
+    double sum = 0.0;
+    for (size_t i = 0; i < repeated->points.size(); ++i) {
+      const Eigen::Vector3d q = T_gt * repeated->points[i].cast<double>();
+      uint32_t index = 0;
+      double dist_sq = 0.0;
+      tree.knnSearch(q.data(), 1, &index, &dist_sq);
+      sum += repeated->count[i] * std::sqrt(dist_sq);
+    }
+    return sum / static_cast<double>(points_m.size());
+  }
   // KD-tree over the estimate-posed points.
   const std::vector<Eigen::Vector3d> est = Transform(points_m, T_est);
   const PointCloudAdaptor adaptor{est};

@@ -117,6 +117,21 @@ TEST(EvalAddS, MatchesBruteForceNearestNeighbour) {
   }
 }
 
+// A points file whose points repeat (each written many times, some more than others) gives the
+// mean over every point, as brute force does; the search runs over the distinct points.
+TEST(EvalAddS, RepeatedPointsGiveTheMeanOverEveryPoint) {
+  std::mt19937 gen(7);
+  const auto distinct = RandomPoints(300, gen);
+  std::vector<Eigen::Vector3f> repeated;
+  for (size_t i = 0; i < distinct.size(); ++i)
+    for (size_t k = 0; k < 1 + i % 7; ++k) repeated.push_back(distinct[(i * 37) % distinct.size()]);
+  const SE3 T_gt = RandomPose(gen), T_est = RandomPose(gen);
+  EXPECT_NEAR(AddS(repeated, T_est, T_gt), BruteForceAddS(repeated, T_est, T_gt), 1e-12);
+  const std::vector<Eigen::Vector3f> same(5000, distinct[0]);
+  EXPECT_NEAR(AddS(same, T_est, T_gt), (T_est * distinct[0].cast<double>() - T_gt * distinct[0].cast<double>()).norm(),
+              1e-12);
+}
+
 TEST(EvalAddS, NonFinitePoseIsInfinite) {
   const auto pts = CirclePoints(10, 0.05);
   SE3 T_bad;
