@@ -77,6 +77,7 @@ Status RunEstimate(EstimateArgs& a) {
   MCPOSE_RETURN_IF_ERROR(CheckWritable(a.out));
   if (!a.out_json.empty()) MCPOSE_RETURN_IF_ERROR(CheckWritable(a.out_json));
   MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<Dataset> dataset, Dataset::Open(a.dataset, a.split, a.models));
+  MCPOSE_RETURN_IF_ERROR(CheckOutputsOutsideDataset(*dataset, {{"--out", a.out}, {"--out-json", a.out_json}}));
   MCPOSE_ASSIGN_OR_RETURN(std::vector<Detection> detections, ReadDetectionsJson(a.detections));
   if (detections.empty()) return InvalidArgument(a.detections + ": holds no detections");
   if (!a.scenes.empty()) {
@@ -95,6 +96,7 @@ Status RunEstimate(EstimateArgs& a) {
                                                    io::RunFingerprint(o, detections,
                                                                       {a.dataset, a.split, dataset->models_dir()}),
                                                    a.resume));
+  MCPOSE_RETURN_IF_ERROR(journal->CheckKeptAgainst(detections));
   if (journal->kept_images() > 0 && !a.quiet)
     spdlog::info("resuming: {} finished images kept from {}", journal->kept_images(), io::JournalPath(a.out));
 

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <set>
 #include <tuple>
 
 #include "io/io_util.h"
@@ -172,6 +173,30 @@ StatusOr<std::unique_ptr<ResultsJournal>> ResultsJournal::Open(const std::string
   journal->kept_images_ = static_cast<int>(images.size());
   journal->images_ = std::move(images);
   return journal;
+}
+
+Status ResultsJournal::CheckKeptAgainst(const std::vector<Detection>& detections) const {
+  std::map<FrameKey, std::set<int>> detected;
+  for (const Detection& d : detections) detected[FrameKey{d.scene_id, d.image_id}].insert(d.obj_id);
+  const std::string path = JournalPath(out_);
+  for (const auto& [key, rows] : images_) {
+    const std::string block = path + ": the rows of scene_id " + std::to_string(key.scene_id) + ", im_id " +
+                              std::to_string(key.image_id);
+    const auto image = detected.find(key);
+    if (image == detected.end()) return InvalidArgument(block + ": no detection names this image");
+    std::set<int> seen;
+    for (const PoseResult& r : rows) {
+      if (r.scene_id != key.scene_id || r.im_id != key.image_id)
+        return InvalidArgument(block + ": a row of scene_id " + std::to_string(r.scene_id) + ", im_id " +
+                               std::to_string(r.im_id) + " among them");
+      if (!image->second.contains(r.obj_id))
+        return InvalidArgument(block + ": a row of obj_id " + std::to_string(r.obj_id) +
+                               ", which no detection of this image names");
+      if (!seen.insert(r.obj_id).second)
+        return InvalidArgument(block + ": two rows of obj_id " + std::to_string(r.obj_id));
+    }
+  }
+  return Status::Ok();
 }
 
 ResultsJournal::~ResultsJournal() {

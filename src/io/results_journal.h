@@ -56,6 +56,10 @@ class ResultsJournal {
   const std::map<FrameKey, std::vector<PoseResult>>& images() const { return images_; }
   bool Has(const FrameKey& key) const { return images_.count(key) > 0; }
   int kept_images() const { return kept_images_; }
+  // Every kept image is one the detections name, and each of its rows is of a class they name
+  // in that image, at most once: a journal edited by hand, or one of another detections file
+  // under the same fingerprint, is refused with one line naming the journal.
+  Status CheckKeptAgainst(const std::vector<Detection>& detections) const;
 
   // Appends one finished image's rows and its end mark, and flushes them to disk.
   Status Append(const FrameKey& key, const std::vector<PoseResult>& rows);
