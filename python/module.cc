@@ -289,9 +289,17 @@ std::map<int, std::vector<Detection>> ByClass(const std::vector<Detection>& dets
   return by_class;
 }
 
+// At most limits::kMaxBoxesPerImage boxes in one image, as the CLI's check.
+void CheckBoxCount(size_t boxes) {
+  if (boxes > static_cast<size_t>(limits::kMaxBoxesPerImage))
+    throw py::value_error(std::to_string(boxes) + " detections: more than " +
+                          std::to_string(limits::kMaxBoxesPerImage) + " boxes in one image");
+}
+
 // The detections of one image by class, each with a mesh in `meshes` and a box inside the image.
 std::map<int, std::vector<Detection>> CheckedByClass(const std::vector<Detection>& dets, const Intrinsics& K,
                                                      const std::function<bool(int)>& has_mesh, FrameKey* key) {
+  CheckBoxCount(dets.size());
   std::map<int, std::vector<Detection>> by_class = ByClass(dets, key);
   for (size_t i = 0; i < dets.size(); ++i) {
     if (!has_mesh(dets[i].obj_id))
@@ -618,6 +626,9 @@ PYBIND11_MODULE(_mcpose, m) {
               throw py::value_error("detection of category_id " + std::to_string(d.obj_id) + ": " + st.message());
             boxes[d.obj_id].push_back(d);
           }
+        size_t count = 0;
+        for (const auto& [id, dets] : boxes) count += dets.size();
+        CheckBoxCount(count);
         const std::unique_lock<std::mutex> lock = LockReleasingGil(*self.mutex);
         std::set<int> classes;
         for (int id : self.tracker->TrackedIds()) classes.insert(id);

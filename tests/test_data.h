@@ -45,7 +45,7 @@ inline std::filesystem::path TempDir(const std::string& name) {
 }
 
 // The names beside `target` that a writer of it makes while it works (`NAME.tmp-XXXXXX`,
-// a report's `NAME.old-XXXXXX`): none may be left once a run has ended.
+// a report's `NAME.old-XXXXXX` and `NAME.lock`): none may be left once a run has ended.
 inline std::vector<std::string> LeftBeside(const std::filesystem::path& target) {
   std::vector<std::string> left;
   std::error_code ec;
@@ -53,7 +53,8 @@ inline std::vector<std::string> LeftBeside(const std::filesystem::path& target) 
   const std::string name = target.filename().string();
   for (const auto& e : std::filesystem::directory_iterator(dir, ec)) {
     const std::string other = e.path().filename().string();
-    if (other.rfind(name + ".tmp", 0) == 0 || other.rfind(name + ".old-", 0) == 0) left.push_back(other);
+    if (other.rfind(name + ".tmp", 0) == 0 || other.rfind(name + ".old-", 0) == 0 || other == name + ".lock")
+      left.push_back(other);
   }
   return left;
 }

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/common.h"
+#include "engine/pipeline.h"
 #include "io/io_util.h"
 #include "commands.h"
 #include "mcpose/dataset.h"
@@ -46,10 +47,12 @@ Status RunEval(const EvalArgs& a) {
   MCPOSE_RETURN_IF_ERROR(CheckOutputsDistinct({{"--results", a.results}, {"--detections", a.detections}}, {{"--json", a.json}}));
   if (!a.json.empty()) MCPOSE_RETURN_IF_ERROR(CheckWritable(a.json));
   MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<Dataset> dataset, Dataset::Open(a.dataset, a.split));
+  MCPOSE_RETURN_IF_ERROR(CheckOutputsOutsideDataset(*dataset, {{"--json", a.json}}));
   MCPOSE_ASSIGN_OR_RETURN(std::vector<PoseResult> results, ReadResultsCsv(a.results));
   std::vector<Detection> detections;
   if (!a.detections.empty()) {
     MCPOSE_ASSIGN_OR_RETURN(detections, ReadDetectionsJson(a.detections));
+    MCPOSE_RETURN_IF_ERROR(CheckDetectionsAgainstDataset(*dataset, detections, a.detections));
   }
   EvalOptions options;
   options.auc_max_m = a.auc_max_m;
@@ -100,6 +103,7 @@ Status RunDetectionsFromGt(const GtDetArgs& a) {
   if (!(o.distractors >= 0 && o.distractors <= 1)) return InvalidArgument("--distractors must lie in [0, 1]");
   MCPOSE_RETURN_IF_ERROR(CheckWritable(a.out));
   MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<Dataset> dataset, Dataset::Open(a.dataset, a.split));
+  MCPOSE_RETURN_IF_ERROR(CheckOutputsOutsideDataset(*dataset, {{"--out", a.out}}));
   MCPOSE_ASSIGN_OR_RETURN(std::vector<Detection> dets, DetectionsFromGroundTruth(*dataset, o));
   MCPOSE_RETURN_IF_ERROR(WriteDetectionsJson(a.out, dets));
   std::printf("%zu detections written to %s\n", dets.size(), a.out.c_str());

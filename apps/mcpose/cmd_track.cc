@@ -1,4 +1,7 @@
 #include <algorithm>
+#include <charconv>
+#include <cstdint>
+#include <limits>
 #include <chrono>
 #include <cstdio>
 #include <map>
@@ -32,25 +35,24 @@ struct TrackArgs {
   TrackerOptions tracker;
 };
 
-// "A-B" (inclusive) or "A"; empty: every frame.
+// "A-B" (inclusive) or "A"; empty: every frame. Frame numbers are decimal digits; one past the
+// largest int (any frame past a video's end) means "to the end".
 Status ParseFrameRange(const std::string& text, int* first, int* last) {
-  *first = 0, *last = 1 << 30;
+  *first = 0, *last = std::numeric_limits<int>::max();
   if (text.empty()) return Status::Ok();
+  const auto number = [](const std::string& digits, int* value) {
+    if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos) return false;
+    uint64_t v = 0;
+    const auto [ptr, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), v);
+    const uint64_t max = static_cast<uint64_t>(std::numeric_limits<int>::max());
+    *value = static_cast<int>(ec == std::errc::result_out_of_range || v > max ? max : v);
+    return ec == std::errc() || ec == std::errc::result_out_of_range;
+  };
   const size_t dash = text.find('-');
-  try {
-    size_t used = 0;
-    *first = std::stoi(text.substr(0, dash), &used);
-    if (used != (dash == std::string::npos ? text.size() : dash)) throw std::invalid_argument(text);
-    *last = *first;
-    if (dash != std::string::npos) {
-      const std::string b = text.substr(dash + 1);
-      *last = std::stoi(b, &used);
-      if (used != b.size()) throw std::invalid_argument(text);
-    }
-  } catch (const std::exception&) {
-    return InvalidArgument("--frames must be A-B or A (frame numbers), got '" + text + "'");
-  }
-  if (*first < 0 || *last < *first) return InvalidArgument("--frames must be A-B with 0 <= A <= B, got '" + text + "'");
+  const bool ok = number(text.substr(0, dash), first) &&
+                  (dash == std::string::npos ? (*last = *first, true) : number(text.substr(dash + 1), last));
+  if (!ok) return InvalidArgument("--frames must be A-B or A (frame numbers), got '" + text + "'");
+  if (*last < *first) return InvalidArgument("--frames must be A-B with A <= B, got '" + text + "'");
   return Status::Ok();
 }
 
@@ -65,6 +67,7 @@ Status RunTrack(TrackArgs& a) {
   MCPOSE_RETURN_IF_ERROR(CheckWritable(a.out));
   if (!a.out_json.empty()) MCPOSE_RETURN_IF_ERROR(CheckWritable(a.out_json));
   MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<Dataset> dataset, Dataset::Open(a.dataset, a.split, a.models));
+  MCPOSE_RETURN_IF_ERROR(CheckOutputsOutsideDataset(*dataset, {{"--out", a.out}, {"--out-json", a.out_json}}));
 
   // ---- The frames of the video, and each frame's boxes --------------------------------------
   std::vector<FrameKey> frames;
@@ -75,6 +78,7 @@ Status RunTrack(TrackArgs& a) {
   std::map<FrameKey, std::map<int, std::vector<Detection>>> boxes;
   if (!a.detections.empty()) {
     MCPOSE_ASSIGN_OR_RETURN(std::vector<Detection> dets, ReadDetectionsJson(a.detections));
+    MCPOSE_RETURN_IF_ERROR(CheckDetectionsAgainstDataset(*dataset, dets, a.detections));
     for (const Detection& d : dets) boxes[FrameKey{d.scene_id, d.image_id}][d.obj_id].push_back(d);
   } else {  // tight boxes of the ground-truth visible masks
     for (const FrameKey& k : frames) {
@@ -90,8 +94,9 @@ Status RunTrack(TrackArgs& a) {
   std::map<int, Mesh> meshes;
   for (const FrameKey& k : frames)
     for (const auto& [obj_id, dets] : boxes[k]) {
-      if (!std::binary_search(known.begin(), known.end(), obj_id))
-        return InvalidArgument(a.detections + ": unknown class (category_id " + std::to_string(obj_id) + ")");
+      if (!std::binary_search(known.begin(), known.end(), obj_id))  // boxes from the ground truth
+        return InvalidArgument(dataset->FrameName(k) + ": the ground truth names obj_id " + std::to_string(obj_id) +
+                               ", which has no model in " + dataset->models_dir());
       if (!meshes.count(obj_id)) {
         MCPOSE_ASSIGN_OR_RETURN(Mesh m, dataset->LoadMesh(obj_id));
         meshes.emplace(obj_id, std::move(m));

@@ -179,6 +179,8 @@ def test_bad_input_raises_cli_message(ycbv, tmp_path):
                          ({**good[0], "bbox": (10.0, 10.0, 1e300, 20.0)}, "has a value outside")):
         with pytest.raises(ValueError, match=message):
             mcpose.Estimator().estimate(frame.depth, frame.K, good[1:] + [bad], meshes)
+    with pytest.raises(ValueError, match="more than 10000 boxes in one image"):
+        mcpose.Estimator().estimate(frame.depth, frame.K, good * (10001 // len(good) + 1), meshes)
     with pytest.raises(ValueError, match="rgb: expected a uint8 array .* got dtype float64"):
         mcpose.Estimator().estimate(frame.depth, frame.K, good, meshes,
                                     rgb=np.full(frame.depth.shape + (3,), np.nan))

@@ -47,6 +47,10 @@ inline constexpr int kMaxJsonDepth = 64;
 // Detector boxes: corner and sides within this many pixels of the origin.
 inline constexpr double kMaxBoxPx = 4.0 * kMaxImageSide;
 
+// Detector boxes of one image, all classes together: at most this many (detectors keep 100-300;
+// each box costs its scorer's buffers, so a million would take minutes and gigabytes).
+inline constexpr int kMaxBoxesPerImage = 10'000;
+
 // "%g" of a value, for messages.
 inline std::string Num(double v) {
   char text[32];

@@ -8,6 +8,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "core/physical_limits.h"
 #include "core/rng.h"
 #include "engine/box_scorer.h"
 
@@ -80,13 +81,18 @@ StatusOr<ImageEstimate> EstimateImage(Estimator& estimator, const FrameKey& key,
   return out;
 }
 
-StatusOr<ImageGroups> GroupDetections(const Dataset& dataset, const std::vector<Detection>& detections,
-                                      const std::string& detections_source) {
+namespace {
+
+// The detections by image and class; each names an image of the dataset and a class with a
+// model, and no image holds more than limits::kMaxBoxesPerImage boxes.
+StatusOr<ImageGroups> GroupByImage(const Dataset& dataset, const std::vector<Detection>& detections,
+                                   const std::string& detections_source) {
   const std::vector<FrameKey> frames = dataset.Frames();
   const std::set<FrameKey> frame_set(frames.begin(), frames.end());
   const std::vector<int> ids = dataset.ObjectIds();
   const std::set<int> id_set(ids.begin(), ids.end());
   ImageGroups groups;
+  std::map<FrameKey, int> boxes_of_image;
   for (size_t i = 0; i < detections.size(); ++i) {
     const Detection& d = detections[i];
     const std::string where = detections_source + ": detection " + std::to_string(i) + " (scene_id " +
@@ -96,18 +102,45 @@ StatusOr<ImageGroups> GroupDetections(const Dataset& dataset, const std::vector<
     if (!id_set.count(d.obj_id))
       return InvalidArgument(where + ": unknown class (category_id " + std::to_string(d.obj_id) +
                              "); the dataset has no model for it");
+    if (++boxes_of_image[key] > limits::kMaxBoxesPerImage)
+      return InvalidArgument(where + ": more than " + std::to_string(limits::kMaxBoxesPerImage) +
+                             " boxes in one image");
     groups[key][d.obj_id].push_back(d);
   }
+  return groups;
+}
+
+}  // namespace
+
+Status CheckBoxesOfImage(const FrameKey& key, const std::map<int, std::vector<Detection>>& by_class,
+                         const Intrinsics& K, const std::string& detections_source) {
+  for (const auto& [obj_id, dets] : by_class)
+    for (const Detection& d : dets)
+      if (Status st = engine::CheckBox(d, K); !st.ok())
+        return InvalidArgument(detections_source + ": obj_id " + std::to_string(obj_id) + " in scene_id " +
+                               std::to_string(key.scene_id) + ", image_id " + std::to_string(key.image_id) + ": " +
+                               st.message());
+  return Status::Ok();
+}
+
+Status CheckDetectionsAgainstDataset(const Dataset& dataset, const std::vector<Detection>& detections,
+                                     const std::string& detections_source) {
+  MCPOSE_ASSIGN_OR_RETURN(const ImageGroups groups, GroupByImage(dataset, detections, detections_source));
+  for (const auto& [key, by_class] : groups) {
+    MCPOSE_ASSIGN_OR_RETURN(const Frame frame, dataset.LoadFrame(key));
+    MCPOSE_RETURN_IF_ERROR(CheckBoxesOfImage(key, by_class, frame.K, detections_source));
+  }
+  return Status::Ok();
+}
+
+StatusOr<ImageGroups> GroupDetections(const Dataset& dataset, const std::vector<Detection>& detections,
+                                      const std::string& detections_source) {
+  MCPOSE_ASSIGN_OR_RETURN(ImageGroups groups, GroupByImage(dataset, detections, detections_source));
   for (auto& [key, by_class] : groups) {
     MCPOSE_ASSIGN_OR_RETURN(Frame frame, dataset.LoadFrame(key));
+    MCPOSE_RETURN_IF_ERROR(CheckBoxesOfImage(key, by_class, frame.K, detections_source));
     for (auto it = by_class.begin(); it != by_class.end();) {
       const auto& [obj_id, dets] = *it;
-      for (const Detection& d : dets) {
-        if (Status st = engine::CheckBox(d, frame.K); !st.ok())
-          return InvalidArgument(detections_source + ": obj_id " + std::to_string(obj_id) + " in scene_id " +
-                                 std::to_string(key.scene_id) + ", image_id " + std::to_string(key.image_id) +
-                                 ": " + st.message());
-      }
       // A class whose boxes hold no depth (all zero or saturated) has nothing to fit: no row.
       if (!BoxesHoldDepth(frame.depth, dets)) {
         spdlog::warn("{}: no valid depth in the {} box(es) of class {} ({}); it gets no result", frame.depth_path,

@@ -68,12 +68,23 @@ bool ImageWantsColour(const EstimatorOptions& options, const std::map<int, std::
 
 using ImageGroups = std::map<FrameKey, std::map<int, std::vector<Detection>>>;
 
-// The detections by image and class, each checked: its image exists in the dataset, its class
-// has a model, its box lies in the image with positive size. Errors name `detections_source`
-// and the detection. A class whose boxes hold no valid depth is left out with one warning
-// naming the depth image and the class.
+// The detections by image and class, each checked as CheckDetectionsAgainstDataset does. A
+// class whose boxes hold no valid depth is left out with one warning naming the depth image and
+// the class.
 StatusOr<ImageGroups> GroupDetections(const Dataset& dataset, const std::vector<Detection>& detections,
                                       const std::string& detections_source);
+
+// The one check of detections against a dataset, for every command that reads both: each
+// detection's image exists in the dataset, its class has a model, no image holds more than
+// limits::kMaxBoxesPerImage boxes, and each box overlaps its image with positive size (each
+// named image's frame is read for its size). Errors name `detections_source` and the detection.
+Status CheckDetectionsAgainstDataset(const Dataset& dataset, const std::vector<Detection>& detections,
+                                     const std::string& detections_source);
+
+// The boxes of one image, by class, against its intrinsics (the per-image part of the check
+// above); errors name `detections_source`, the image and the class.
+Status CheckBoxesOfImage(const FrameKey& key, const std::map<int, std::vector<Detection>>& by_class,
+                         const Intrinsics& K, const std::string& detections_source);
 
 // Checks every detection first (GroupDetections), loads the meshes, then estimates each (image, class) group, images in (scene_id, image_id) order,
 // leaving out those `skip` names. Nothing is written here; `image_done` may write each image.

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <map>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -89,10 +90,16 @@ class FakeDataset : public Dataset {
     return it->second[static_cast<size_t>(gt.gt_index)].mask;
   }
 
+  // Every class with evaluation points or an instance has a model, except those listed here.
+  std::set<int> without_model;
+
   std::vector<int> ObjectIds() const override {
-    std::vector<int> ids;
-    for (const auto& [id, pts] : points_) ids.push_back(id);
-    return ids;
+    std::set<int> ids;
+    for (const auto& [id, pts] : points_) ids.insert(id);
+    for (const auto& [key, instances] : frames_)
+      for (const Instance& inst : instances) ids.insert(inst.gt.obj_id);
+    for (int id : without_model) ids.erase(id);
+    return {ids.begin(), ids.end()};
   }
   std::string ObjectName(int obj_id) const override { return "fake_" + std::to_string(obj_id); }
   StatusOr<Mesh> LoadMesh(int /*obj_id*/) const override { return NotFound("fake: no meshes"); }

@@ -4,8 +4,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <map>
+#include <set>
 #include <string>
 #include <vector>
+
+#include <spdlog/spdlog.h>
 
 #include "mcpose/eval.h"
 
@@ -123,11 +127,19 @@ StatusOr<std::vector<Detection>> DetectionsFromGroundTruth(const Dataset& datase
   std::vector<FrameKey> frames = dataset.Frames();
   std::sort(frames.begin(), frames.end());
 
+  const std::vector<int> ids = dataset.ObjectIds();
+  const std::set<int> with_model(ids.begin(), ids.end());
+  std::map<int, int> without_model;  // obj_id -> instances left out
   std::vector<Detection> out;
   for (const FrameKey& key : frames) {
     MCPOSE_ASSIGN_OR_RETURN(const Frame frame, dataset.LoadFrame(key));
     const double image_w = frame.K.width, image_h = frame.K.height;
     for (const GtInstance& gt : frame.gt) {
+      // A box of a class the dataset has no model for could never be estimated.
+      if (!with_model.contains(gt.obj_id)) {
+        ++without_model[gt.obj_id];
+        continue;
+      }
       MCPOSE_ASSIGN_OR_RETURN(const MaskImage mask, dataset.LoadVisibleMask(key, gt));
       if (mask.width != frame.K.width || mask.height != frame.K.height ||
           mask.values.size() != static_cast<size_t>(mask.width) * mask.height) {
@@ -173,6 +185,9 @@ StatusOr<std::vector<Detection>> DetectionsFromGroundTruth(const Dataset& datase
     if (a.obj_id != b.obj_id) return a.obj_id < b.obj_id;
     return a.score > b.score;
   });
+  for (const auto& [obj_id, instances] : without_model)
+    spdlog::warn("{}: the ground truth names obj_id {} ({} instance(s)), which has no model in {}; no box is written "
+                 "for it", dataset.root(), obj_id, instances, dataset.models_dir());
   return out;
 }
 

@@ -245,6 +245,19 @@ TEST(GtDetections, MinVisiblePixels) {
   EXPECT_EQ(DetectionsFromGroundTruth(ds, options)->size(), 2u);
 }
 
+// A ground-truth class the dataset has no model for gets no box (and one warning).
+TEST(GtDetections, NoBoxForAClassWithoutAModel) {
+  FakeDataset ds = SmallDataset();
+  ds.without_model = {3};
+  GtDetectionOptions options;
+  options.jitter = 0;
+  options.distractors = 0;
+  auto dets = DetectionsFromGroundTruth(ds, options);
+  ASSERT_TRUE(dets.ok()) << dets.status().ToString();
+  ASSERT_EQ(dets->size(), 2u);  // obj 1 and obj 7; obj 3's two instances left out
+  for (const Detection& d : *dets) EXPECT_NE(d.obj_id, 3);
+}
+
 TEST(GtDetections, InvalidOptions) {
   const FakeDataset ds = SmallDataset();
   GtDetectionOptions bad;

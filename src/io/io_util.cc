@@ -9,6 +9,7 @@
 #include <system_error>
 
 #include <fcntl.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -86,6 +87,38 @@ StatusOr<std::string> CreateFolderBeside(const std::string& path, const char* ta
       return NotFound(path + ": cannot create a folder beside it (" + std::strerror(errno) + ")");
   }
   return Internal(path + ": cannot find a free folder name beside it");
+}
+
+StatusOr<std::unique_ptr<FileLock>> FileLock::Acquire(const std::string& path) {
+  // A holder removes the file when it is done: a process that opened the old file and locks it
+  // afterwards finds the name gone or another file's, and opens the name again.
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
+    if (fd < 0 && errno == ELOOP) return InvalidArgument(path + ": is a link; a lock file is never one");
+    if (fd < 0) return NotFound(path + ": cannot create the lock file (" + std::strerror(errno) + ")");
+    if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+      const int error = errno;
+      ::close(fd);
+      if (error == EWOULDBLOCK) return InvalidArgument(path + ": held by another run writing the same output");
+      return Internal(path + ": cannot lock (" + std::strerror(error) + ")");
+    }
+    struct stat held, named;
+    if (::fstat(fd, &held) == 0 && ::lstat(path.c_str(), &named) == 0 && held.st_dev == named.st_dev &&
+        held.st_ino == named.st_ino) {
+      if (!S_ISREG(held.st_mode)) {
+        ::close(fd);
+        return InvalidArgument(path + ": is not a regular file");
+      }
+      return std::unique_ptr<FileLock>(new FileLock(path, fd));
+    }
+    ::close(fd);
+  }
+  return Internal(path + ": cannot take the lock (the file keeps changing)");
+}
+
+FileLock::~FileLock() {
+  ::unlink(path_.c_str());
+  ::close(fd_);
 }
 
 Status WriteFileAtomic(const std::string& path, const std::string& contents) {

@@ -2,6 +2,7 @@
 // writes, strict number parsing and whitespace splitting. All report errors through Status.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -25,6 +26,23 @@ StatusOr<TempFile> CreateTempFileBeside(const std::string& path);
 // A new, empty folder beside `path`, named `path` + `tag` + six random characters (e.g. tag
 // ".tmp-"), created exclusively with the permissions the user's umask gives. Its name.
 StatusOr<std::string> CreateFolderBeside(const std::string& path, const char* tag);
+
+// An exclusive lock held through the file `path` (created if absent, never through a link) for
+// as long as the object lives; the file is removed when it goes. A lock file left by a run that
+// was killed holds nothing (the system drops the lock) and is taken over.
+class FileLock {
+ public:
+  // Fails at once, naming `path`, if another process holds it.
+  static StatusOr<std::unique_ptr<FileLock>> Acquire(const std::string& path);
+  ~FileLock();
+  FileLock(const FileLock&) = delete;
+  FileLock& operator=(const FileLock&) = delete;
+
+ private:
+  FileLock(std::string path, int fd) : path_(std::move(path)), fd_(fd) {}
+  std::string path_;
+  int fd_ = -1;
+};
 
 // Writes `contents` to a new temporary file beside `path` (CreateTempFileBeside), flushes it to
 // disk, then renames it to `path`: readers never see a partial file, on error no file is left

@@ -13,6 +13,7 @@
 #include <tuple>
 
 #include "engine/box_scorer.h"
+#include "engine/pipeline.h"
 #include "io/io_util.h"
 #include "io/png_io.h"
 #include "report/overlay.h"
@@ -127,7 +128,8 @@ struct Model {
   std::vector<Section> sections;
 };
 
-// Every results row and box names an image and a class of the dataset; the error names the file.
+// Every results row names an image and a class of the dataset, every box passes
+// CheckDetectionsAgainstDataset; the error names the file.
 Status CheckAgainstDataset(const Dataset& dataset, const ReportInput& in) {
   std::set<FrameKey> frames;
   for (const FrameKey& k : dataset.Frames()) frames.insert(k);
@@ -145,13 +147,7 @@ Status CheckAgainstDataset(const Dataset& dataset, const ReportInput& in) {
     MCPOSE_RETURN_IF_ERROR(check(in.results_path + ": a row of scene_id " + std::to_string(r.scene_id) + ", im_id " +
                                      std::to_string(r.im_id),
                                  r.scene_id, r.im_id, r.obj_id));
-  if (in.detections)
-    for (size_t i = 0; i < in.detections->size(); ++i) {
-      const Detection& d = (*in.detections)[i];
-      MCPOSE_RETURN_IF_ERROR(check(in.detections_path + ": detection " + std::to_string(i) + " (scene_id " +
-                                       std::to_string(d.scene_id) + ", image_id " + std::to_string(d.image_id) + ")",
-                                   d.scene_id, d.image_id, d.obj_id));
-    }
+  if (in.detections) MCPOSE_RETURN_IF_ERROR(CheckDetectionsAgainstDataset(dataset, *in.detections, in.detections_path));
   return Status::Ok();
 }
 
@@ -592,8 +588,6 @@ constexpr char kMarker[] = ".mcpose-report";
 // earlier report holding nothing but what that report wrote.
 Status CheckOutFolder(const fs::path& out) {
   std::error_code ec;
-  const fs::path parent = out.has_parent_path() ? out.parent_path() : fs::path(".");
-  if (!fs::is_directory(parent, ec)) return NotFound(out.string() + ": folder " + parent.string() + " does not exist");
   const fs::file_status st = fs::symlink_status(out, ec);
   if (!fs::exists(st)) return Status::Ok();
   if (fs::is_symlink(st)) return InvalidArgument(out.string() + ": is a link; a report is written to a real folder");
@@ -679,6 +673,11 @@ bool IsDistractor(const Detection& box, std::span<const MaskImage> visible_masks
 StatusOr<ReportSummary> WriteReport(const Dataset& dataset, const ReportInput& input, const std::string& out_dir) {
   fs::path out = fs::path(out_dir).lexically_normal();
   if (out.filename().empty() && out.has_parent_path()) out = out.parent_path();  // "report/" names "report"
+  std::error_code ec;
+  const fs::path parent = out.has_parent_path() ? out.parent_path() : fs::path(".");
+  if (!fs::is_directory(parent, ec)) return NotFound(out.string() + ": folder " + parent.string() + " does not exist");
+  // One report into a folder at a time: two would each move the other's folder aside and away.
+  MCPOSE_ASSIGN_OR_RETURN(const std::unique_ptr<io::FileLock> lock, io::FileLock::Acquire(out.string() + ".lock"));
   MCPOSE_RETURN_IF_ERROR(CheckOutFolder(out));
   MCPOSE_RETURN_IF_ERROR(CheckAgainstDataset(dataset, input));
   Model m;
@@ -691,7 +690,6 @@ StatusOr<ReportSummary> WriteReport(const Dataset& dataset, const ReportInput& i
   // Everything goes into a new folder of its own beside the target, which takes the target's
   // place at the end; the earlier report (checked to hold only what a report wrote) goes then.
   MCPOSE_ASSIGN_OR_RETURN(const fs::path tmp, io::CreateFolderBeside(out.string(), ".tmp-"));
-  std::error_code ec;
   Status status;
   if (!fs::create_directories(tmp / "images", ec))
     status = Internal(tmp.string() + ": cannot create the images folder: " + ec.message());

@@ -41,7 +41,9 @@ struct ReportSummary {
 
 // Writes the report into `out_dir`: into a temporary folder beside it first, which replaces
 // `out_dir` at the end, so a failed run leaves no partial report. An existing `out_dir` must be
-// an earlier report (it holds index.html) or empty; its parent folder must exist. Errors name
+// an earlier report (its .mcpose-report lists every file in it) or empty; its parent folder must
+// exist. The run holds `out_dir`.lock (io::FileLock) throughout: a second report into the same
+// folder at the same time is refused. Errors name
 // the file and the problem: a detail entry whose pose differs from the results row of its
 // object (another run), a results row or box of an image or class the dataset does not have,
 // an unreadable frame or model.

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "eval/fake_dataset_test_util.h"
+#include "io/io_util.h"
 #include "test_data.h"
 
 namespace mcpose::report {
@@ -188,9 +189,49 @@ TEST(Report, RefusesResultsAndBoxesOfAnImageOrClassTheDatasetLacks) {
   run.input.detections_path = "dets.json";
   summary = WriteReport(run.dataset, run.input, out.string());
   ASSERT_FALSE(summary.ok());
-  EXPECT_EQ(summary.status().message(),
-            "dets.json: detection 0 (scene_id 1, image_id 3): the dataset fake_root has no such image");
+  EXPECT_EQ(summary.status().message(), "dets.json: detection 0 (scene_id 1, image_id 3): no such image in fake_root");
   EXPECT_FALSE(fs::exists(out));
+
+  box.image_id = 2, box.obj_id = 4;
+  run.input.detections = std::vector<Detection>{box};
+  summary = WriteReport(run.dataset, run.input, out.string());
+  ASSERT_FALSE(summary.ok());
+  EXPECT_EQ(summary.status().message(), "dets.json: detection 0 (scene_id 1, image_id 2): unknown class "
+                                        "(category_id 4); the dataset has no model for it");
+
+  // A box wholly outside the image.
+  box.obj_id = 3, box.score = 0.5, box.x = 5000, box.y = 10, box.w = 20, box.h = 20;
+  run.input.detections = std::vector<Detection>{box};
+  summary = WriteReport(run.dataset, run.input, out.string());
+  ASSERT_FALSE(summary.ok());
+  EXPECT_NE(summary.status().message().find("dets.json: obj_id 3 in scene_id 1, image_id 2: box"), std::string::npos)
+      << summary.status().message();
+  EXPECT_NE(summary.status().message().find("lies outside"), std::string::npos) << summary.status().message();
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_TRUE(testing::LeftBeside(out).empty());
+}
+
+// Two reports into one folder at once: the second is refused while the first holds the lock,
+// and the lock file goes with the run that held it. (The report of a real dataset under the
+// same lock: ReportReal in tests/.)
+TEST(Report, OneRunAtATimeIntoAFolder) {
+  FakeRun run;
+  const fs::path out = testing::TempDir("report_lock") / "report";
+  {
+    auto held = io::FileLock::Acquire(out.string() + ".lock");
+    ASSERT_TRUE(held.ok()) << held.status().ToString();
+    auto summary = WriteReport(run.dataset, run.input, out.string());
+    ASSERT_FALSE(summary.ok());
+    EXPECT_EQ(summary.status().message(), out.string() + ".lock: held by another run writing the same output");
+    EXPECT_FALSE(fs::exists(out));
+  }
+  EXPECT_FALSE(fs::exists(out.string() + ".lock"));
+  // Free again: the run gets past the lock (to the fake dataset's missing meshes), and its own
+  // lock file goes with it.
+  auto summary = WriteReport(run.dataset, run.input, out.string());
+  ASSERT_FALSE(summary.ok());
+  EXPECT_EQ(summary.status().message(), "fake: no meshes");
+  EXPECT_TRUE(testing::LeftBeside(out).empty());
 }
 
 }  // namespace
