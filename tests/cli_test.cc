@@ -127,6 +127,75 @@ TEST(Cli, OutputsNeitherOverwriteInputsNorFollowLinks) {
   EXPECT_TRUE(testing::LeftBeside(dir / "r.csv").empty());
 }
 
+// No command writes over what the dataset holds (any of it may be an input), nor into a folder
+// that holds the dataset; the file is unchanged. A new file inside the dataset folder is fine.
+TEST(Cli, OutputsNeverOverwriteTheDataset) {
+  const fs::path ycbv = testing::MakeYcbvCopy("outputs_dataset");
+  const fs::path dir = ycbv.parent_path();
+  const fs::path dets = dir / "dets.json", results = dir / "r.csv";
+  WriteText(dets, Scene49Detections().dump());
+  WriteText(results, "scene_id,im_id,obj_id,score,R,t,time\n");
+  const fs::path meta = ycbv / "data/0049/000001-meta.mat", classes = ycbv / "classes.txt";
+  const fs::path points = testing::OwnModel(ycbv, "004_sugar_box") / "points.xyz";
+  const std::string meta_bytes = ReadText(meta), classes_text = ReadText(classes), points_text = ReadText(points);
+  const std::string ds = " --dataset " + ycbv.string();
+  const std::string cases[] = {
+      "estimate" + ds + " --detections " + dets.string() + " --samples 16 --iterations 2 --out " + meta.string(),
+      "estimate" + ds + " --detections " + dets.string() + " --samples 16 --iterations 2 --out " + results.string() +
+          " --out-json " + points.string(),
+      "track" + ds + " --video 49 --frames 1 --out " + classes.string(),
+      "eval" + ds + " --results " + results.string() + " --json " + points.string(),
+      "detections-from-gt" + ds + " --out " + meta.string(),
+      "report" + ds + " --results " + results.string() + " --out " + (ycbv / "data").string(),
+      "report" + ds + " --results " + results.string() + " --out " + dir.string(),
+      "bench" + ds + " --iterations 1 --json " + classes.string(),
+      "capture-appearance" + ds + " --frames " + dets.string() + " --out " + ycbv.string(),
+  };
+  for (const std::string& args : cases) {
+    const CliResult r = RunCli(args, dir);
+    EXPECT_EQ(r.exit_code, 1) << args << "\n" << r.err;
+    EXPECT_TRUE(r.err.find("which this run may read; it would be overwritten") != std::string::npos ||
+                r.err.find("names a folder holding the dataset") != std::string::npos)
+        << args << "\n" << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  }
+  EXPECT_EQ(ReadText(meta), meta_bytes);
+  EXPECT_EQ(ReadText(classes), classes_text);
+  EXPECT_EQ(ReadText(points), points_text);
+  const CliResult fresh = RunCli("detections-from-gt" + ds + " --out " + (ycbv / "new_dets.json").string(), dir);
+  EXPECT_EQ(fresh.exit_code, 0) << fresh.err;
+}
+
+// An allocation that fails ends as one line and exit status 1, not std::terminate: a million
+// samples (about 425 MB) under a 350 MB address-space limit, under which 100 samples run.
+TEST(Cli, OutOfMemoryIsOneClearError) {
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+  GTEST_SKIP() << "the sanitizers reserve more address space than the limit";
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
+  GTEST_SKIP() << "the sanitizers reserve more address space than the limit";
+#endif
+#endif
+  const fs::path bop = MakeBopCopy("out_of_memory");
+  const fs::path dir = bop.parent_path();
+  WriteText(dir / "dets.json", Scene49Detections().dump());
+  const auto run = [&](const std::string& out, int samples) {
+    return testing::RunProgram(std::string("ulimit -v 350000; ") + MCPOSE_CLI_PATH,
+                               "estimate --dataset " + bop.string() + " --detections " + (dir / "dets.json").string() +
+                                   " --out " + (dir / out).string() + " --samples " + std::to_string(samples) +
+                                   " --iterations 2 --threads 1 --quiet",
+                               dir);
+  };
+  const CliResult small = run("small.csv", 100);
+  ASSERT_EQ(small.exit_code, 0) << small.err;
+  const CliResult r = run("r.csv", 1000000);
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(r.err.rfind("mcpose: error:", 0), 0u) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "r.csv"));
+  EXPECT_TRUE(testing::LeftBeside(dir / "r.csv").empty());
+}
+
 // A seed outside 0..2^64-1 is refused, not wrapped around to another seed.
 TEST(Cli, SeedsOutsideTheirRangeAreRefused) {
   const fs::path dir = testing::TempDir("seed_range");
@@ -961,18 +1030,38 @@ TEST(CliTrack, TracksVideo49AtAnyThreadCount) {
   EXPECT_EQ(scored, 8);
 }
 
+// Frames past the video's end (even past any int) mean "to the end": the last frame alone here.
+TEST(CliTrack, FramesPastTheEndMeanToTheEnd) {
+  const fs::path dir = testing::TempDir("track_end");
+  for (const char* range : {"10-1000000000", "10-99999999999999999999"}) {
+    const CliResult r = RunCli("track -q --dataset " + testing::YcbvDir() + " --video 49 --frames " + range +
+                                   " --samples 50 --iterations 2 --out " + (dir / "t.csv").string(),
+                               dir);
+    ASSERT_EQ(r.exit_code, 0) << range << ": " << r.err;
+    auto rows = ReadResultsCsv((dir / "t.csv").string());
+    ASSERT_TRUE(rows.ok()) << rows.status().ToString();
+    ASSERT_FALSE(rows->empty());
+    for (const PoseResult& row : *rows) EXPECT_EQ(row.im_id, 10) << range;
+    fs::remove(dir / "t.csv");
+  }
+}
+
 TEST(CliTrack, BadInputIsOneErrorAndNoOutput) {
   const fs::path dir = testing::TempDir("track_bad");
   const std::string base = "track --dataset " + testing::YcbvDir() + " --out " + (dir / "t.csv").string() +
                            " --out-json " + (dir / "t.json").string() + " ";
   WriteText(dir / "unknown.json",
             R"([{"scene_id": 49, "image_id": 1, "category_id": 99, "score": 1, "bbox": [10, 10, 50, 50]}])");
+  WriteText(dir / "outside.json",
+            R"([{"scene_id": 49, "image_id": 1, "category_id": 3, "score": 1, "bbox": [700, 10, 50, 50]}])");
   const std::pair<std::string, std::string> cases[] = {
       {"--video 49 --frames 5-2", "--frames"},
       {"--video 49 --frames two", "--frames"},
       {"--video 77", "no frame of video 77"},
       {"--video 49 --frames 1-2 --detections " + (dir / "unknown.json").string(), "unknown class"},
       {"--video 49 --frames 1-2 --detections " + (dir / "missing.json").string(), "missing.json"},
+      {"--video 49 --frames 1-2 --detections " + (dir / "outside.json").string(), (dir / "outside.json").string()},
+      {"--video 49 --frames 11-99999999999999999999", "no frame of video 49"},
       {"--video 49 --lost-fit 1.5", "lost_fit"},
       {"--video 49 --track-iterations 0", "iterations"},
   };

@@ -33,7 +33,7 @@ using testing::RunCli;
 using testing::WriteText;
 
 enum class Layout { kYcbv, kBop };
-enum class Command { kEstimate, kEval };
+enum class Command { kEstimate, kEval, kEvalWithBoxes };
 
 struct HostileCase {
   std::string name;
@@ -76,7 +76,8 @@ CliResult RunCase(Layout layout, Command command, const fs::path& root, const fs
                   dir);
   }
   (void)layout;
-  return RunCli("eval --dataset " + root.string() + " --results " + (dir / "in.csv").string() + " --json " +
+  const std::string boxes = command == Command::kEvalWithBoxes ? " --detections " + (dir / "dets.json").string() : "";
+  return RunCli("eval --dataset " + root.string() + " --results " + (dir / "in.csv").string() + boxes + " --json " +
                     (dir / "eval.json").string(),
                 dir);
 }
@@ -217,6 +218,38 @@ const Layout Y = Layout::kYcbv;
 const Layout B = Layout::kBop;
 const Command E = Command::kEstimate;
 const Command V = Command::kEval;
+const Command D = Command::kEvalWithBoxes;
+
+// The detections file with `edit` applied to the first box.
+std::function<std::string(const fs::path&)> EditFirstBox(const std::function<void(json&)>& edit) {
+  return [edit](const fs::path& r) {
+    json d = Scene49Detections();
+    edit(d[0]);
+    Replace(r.parent_path() / "dets.json", d.dump());
+    return (r.parent_path() / "dets.json").string();
+  };
+}
+
+// `p` replaced by a link to /dev/zero (endless).
+std::string LinkToDevZero(const fs::path& p) {
+  fs::remove(p);
+  fs::create_symlink("/dev/zero", p);
+  return p.string();
+}
+
+// A PNG whose IDAT chunk holds garbage (its CRC fixed, so only the image data is bad).
+std::string GarbageInsideIdat(const fs::path& p) {
+  std::string bytes = ReadText(fs::canonical(p));
+  const size_t idat = bytes.find("IDAT");
+  EXPECT_NE(idat, std::string::npos);
+  const uint32_t length = (static_cast<uint8_t>(bytes[idat - 4]) << 24) | (static_cast<uint8_t>(bytes[idat - 3]) << 16) |
+                          (static_cast<uint8_t>(bytes[idat - 2]) << 8) | static_cast<uint8_t>(bytes[idat - 1]);
+  for (uint32_t i = length / 3; i < 2 * length / 3; ++i) bytes[idat + 4 + i] = static_cast<char>(i * 131 + 7);
+  const uint32_t crc = Crc32(reinterpret_cast<const unsigned char*>(bytes.data()) + idat, 4 + length);
+  for (int k = 0; k < 4; ++k) bytes[idat + 4 + length + k] = static_cast<char>((crc >> (24 - 8 * k)) & 0xff);
+  Replace(p, bytes);
+  return p.string();
+}
 
 const HostileCase kCases[] = {
     // ---- Images of a frame that disagree in size, and image headers that lie ----
@@ -336,6 +369,34 @@ const HostileCase kCases[] = {
        }); }},
     {"results_negative_scene_id", Y, V, [](const fs::path& r) {
        return EditResults(r, [](std::string& t) { t.replace(t.find("\n49,1,") + 1, 2, "-4"); }); }},
+    {"detection_of_an_unknown_class", Y, E, EditFirstBox([](json& d) { d["category_id"] = 99; })},
+    {"detection_box_outside_the_image", B, E, EditFirstBox([](json& d) { d["bbox"] = json::array({700, 10, 50, 50}); })},
+    {"detection_image_not_in_the_dataset", Y, E, EditFirstBox([](json& d) { d["image_id"] = 777; })},
+    {"detections_20000_in_one_image", B, E, [](const fs::path& r) {
+       json d = json::array();
+       for (int i = 0; i < 20000; ++i) d.push_back(Scene49Detections()[i % 2]);
+       Replace(r.parent_path() / "dets.json", d.dump());
+       return (r.parent_path() / "dets.json").string(); }},
+    // ---- eval and its boxes: the same checks as estimate ----
+    {"eval_detection_of_an_unknown_class", B, D, EditFirstBox([](json& d) { d["category_id"] = 99; })},
+    {"eval_detection_box_outside_the_image", Y, D, EditFirstBox([](json& d) { d["bbox"] = json::array({10, 900, 5, 5}); })},
+    {"eval_detection_image_not_in_the_dataset", B, D, EditFirstBox([](json& d) { d["scene_id"] = 50; })},
+    // ---- Readers: values a sensor cannot produce, data that is not what it claims ----
+    {"label_png_garbage_inside_idat", Y, V, [](const fs::path& r) {
+       return GarbageInsideIdat(r / "data/0049/000001-label.png"); }},
+    {"depth_png_garbage_inside_idat", B, E, [](const fs::path& r) {
+       return GarbageInsideIdat(r / "test/000049/depth/000001.png"); }},
+    {"depth_png_a_link_to_dev_zero", Y, E, [](const fs::path& r) {
+       return LinkToDevZero(r / "data/0049/000001-depth.png"); }},
+    {"meta_mat_a_link_to_dev_zero", Y, V, [](const fs::path& r) { return LinkToDevZero(Meta(r)); }},
+    {"models_info_nested_100000_deep", B, E, [](const fs::path& r) {
+       const fs::path p = r / "models/models_info.json";
+       Replace(p, std::string(100000, '[') + std::string(100000, ']'));
+       return p.string(); }},
+    {"ply_element_of_2147483647_items_without_properties", B, E, [](const fs::path& r) {
+       return ReplacePly(r, "ply\nformat binary_little_endian 1.0\nelement junk 2147483647\nelement vertex 3\n"
+                            "property float x\nproperty float y\nproperty float z\nend_header\n" +
+                            std::string(36, '\0')); }},
 };
 
 INSTANTIATE_TEST_SUITE_P(Cases, HostileInput, ::testing::ValuesIn(kCases),

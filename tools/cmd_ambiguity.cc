@@ -23,6 +23,7 @@ struct AmbiguityArgs {
 Status RunAmbiguity(const AmbiguityArgs& a) {
   if (!a.json.empty()) MCPOSE_RETURN_IF_ERROR(CheckWritable(a.json));
   MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<Dataset> dataset, Dataset::Open(a.dataset, a.split));
+  MCPOSE_RETURN_IF_ERROR(cli::CheckOutputsOutsideDataset(*dataset, {{"--json", a.json}}));
   MCPOSE_ASSIGN_OR_RETURN(analysis::AmbiguityReport report, analysis::AnalyzeDataset(*dataset, a.options, &PrintFrameProgress));
   std::printf("Depth-equivalent poses of each ground-truth instance (turns of %.0f deg about the model axes, with\n"
               "180 deg flips; equivalent = renders agree within %.1f mm on >= %.0f%% of the unoccluded pixels).\n"

@@ -39,6 +39,7 @@ Status RunMisses(MissesArgs& a) {
   if (!a.json.empty()) MCPOSE_RETURN_IF_ERROR(CheckWritable(a.json));
   const EstimatorOptions& o = a.flags.options;
   MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<Dataset> dataset, Dataset::Open(a.dataset, a.split, a.models));
+  MCPOSE_RETURN_IF_ERROR(cli::CheckOutputsOutsideDataset(*dataset, {{"--json", a.json}}));
   MCPOSE_ASSIGN_OR_RETURN(std::vector<Detection> detections, ReadDetectionsJson(a.detections));
   MCPOSE_ASSIGN_OR_RETURN(std::vector<PoseResult> results, ReadResultsCsv(a.results));
   if (a.scene != -2) {

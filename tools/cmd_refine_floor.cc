@@ -40,6 +40,7 @@ Status RunRefineFloor(RefineFloorArgs& a) {
   if (!a.floor.IsValid(&error)) return InvalidArgument("invalid refine-floor options: " + error);
   if (!a.json.empty()) MCPOSE_RETURN_IF_ERROR(CheckWritable(a.json));
   MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<Dataset> dataset, Dataset::Open(a.dataset, a.split));
+  MCPOSE_RETURN_IF_ERROR(cli::CheckOutputsOutsideDataset(*dataset, {{"--json", a.json}}));
   MCPOSE_ASSIGN_OR_RETURN(analysis::RefineFloorReport report,
                           analysis::AnalyzeRefineFloor(*dataset, a.floor, &PrintFrameProgress));
   std::printf("Depth alignment (%d steps, Tukey %.1f mm, pairs within %.0f mm) of each ground-truth pose, started\n"

@@ -42,6 +42,7 @@ Status RunTurnProfile(TurnProfileArgs& a) {
   if (!a.turn.IsValid(&error)) return InvalidArgument("invalid turn options: " + error);
   if (!a.json.empty()) MCPOSE_RETURN_IF_ERROR(CheckWritable(a.json));
   MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<Dataset> dataset, Dataset::Open(a.dataset, a.split, a.models));
+  MCPOSE_RETURN_IF_ERROR(cli::CheckOutputsOutsideDataset(*dataset, {{"--json", a.json}}));
   MCPOSE_ASSIGN_OR_RETURN(std::vector<Detection> detections, ReadDetectionsJson(a.detections));
   MCPOSE_ASSIGN_OR_RETURN(Mesh mesh, dataset->LoadMesh(a.obj_id));
   // The images with boxes of the class, in order.

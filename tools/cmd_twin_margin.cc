@@ -48,6 +48,7 @@ Status RunTwinMargin(TwinMarginArgs& a) {
   MCPOSE_RETURN_IF_ERROR(cli::CheckOutputsDistinct({{"--results", a.results}}, {{"--json", a.json}}));
   if (!a.json.empty()) MCPOSE_RETURN_IF_ERROR(CheckWritable(a.json));
   MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<Dataset> dataset, Dataset::Open(a.dataset, a.split, a.models));
+  MCPOSE_RETURN_IF_ERROR(cli::CheckOutputsOutsideDataset(*dataset, {{"--json", a.json}}));
   engine::Context context(a.flags.options);
   // With --results: each answer of an (image, class), the highest-scored row.
   std::map<std::tuple<int, int, int>, SE3> answers;

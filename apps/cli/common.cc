@@ -330,6 +330,35 @@ Status CheckOutputsDistinct(std::initializer_list<PathArg> inputs, std::initiali
   return Status::Ok();
 }
 
+Status CheckOutputsOutsideDataset(const Dataset& dataset, std::initializer_list<PathArg> outputs) {
+  namespace fs = std::filesystem;
+  const auto canonical = [](const std::string& path) {
+    std::error_code ec;
+    const fs::path p = fs::weakly_canonical(fs::absolute(path), ec);
+    return ec ? fs::absolute(path).lexically_normal() : p;
+  };
+  // Whether `inner` is `outer` or lies below it (both canonical).
+  const auto within = [](const fs::path& inner, const fs::path& outer) {
+    const fs::path rel = inner.lexically_relative(outer);
+    return !rel.empty() && *rel.begin() != "..";
+  };
+  for (const PathArg& out : outputs) {
+    if (out.path.empty()) continue;
+    const fs::path o = canonical(out.path);
+    std::error_code ec;
+    for (const std::string& folder : {dataset.root(), dataset.models_dir()}) {
+      const fs::path f = canonical(folder);
+      if (within(f, o))
+        return InvalidArgument(out.path + ": " + out.flag + " names a folder holding the dataset " + folder +
+                               ", which this run reads");
+      if (within(o, f) && fs::exists(fs::symlink_status(out.path, ec)))
+        return InvalidArgument(out.path + ": " + out.flag + " names what the dataset folder " + folder +
+                               " holds, which this run may read; it would be overwritten (write elsewhere)");
+    }
+  }
+  return Status::Ok();
+}
+
 std::string ActiveSimdTarget() { return render::DispatchedSimdTarget(); }
 std::string SimdTargets() { return render::SimdTargetsAvailable(); }
 

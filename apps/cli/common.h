@@ -8,6 +8,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "mcpose/dataset.h"
 #include "mcpose/options.h"
 #include "mcpose/tracker.h"
 #include "mcpose/status.h"
@@ -82,6 +83,9 @@ struct PathArg {
 // Ok unless an output names the same file as an input or as another output (through any
 // spelling, link or hard link); checked before any work, so that no run overwrites its own input.
 Status CheckOutputsDistinct(std::initializer_list<PathArg> inputs, std::initializer_list<PathArg> outputs);
+// Ok unless an output would overwrite what the dataset holds: an existing file or folder inside
+// its root or models folder (any of them may be read), or a folder holding either.
+Status CheckOutputsOutsideDataset(const Dataset& dataset, std::initializer_list<PathArg> outputs);
 
 // The SIMD target the kernels dispatch to now, and those this build and CPU offer.
 std::string ActiveSimdTarget();

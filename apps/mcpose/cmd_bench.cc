@@ -98,6 +98,7 @@ Status RunBenchCommand(BenchArgs& a) {
     if (!item.empty()) a.options.baselines.push_back(item);
   if (!a.json.empty()) MCPOSE_RETURN_IF_ERROR(CheckWritable(a.json));
   MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<Dataset> dataset, Dataset::Open(a.dataset, a.split, a.models));
+  MCPOSE_RETURN_IF_ERROR(CheckOutputsOutsideDataset(*dataset, {{"--json", a.json}}));
 
   const std::string machine = bench::MachineDescription();
   // The header comes with the first object, so that input RunBench rejects before timing

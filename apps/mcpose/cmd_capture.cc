@@ -40,6 +40,7 @@ StatusOr<std::vector<FrameKey>> ReadFrameLists(const Dataset& dataset, const std
 
 Status RunCapture(const CaptureArgs& a) {
   MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<Dataset> dataset, Dataset::Open(a.dataset, a.split));
+  MCPOSE_RETURN_IF_ERROR(CheckOutputsOutsideDataset(*dataset, {{"--out", a.out}}));
   MCPOSE_ASSIGN_OR_RETURN(std::vector<FrameKey> frames, ReadFrameLists(*dataset, a.frame_lists));
   MCPOSE_ASSIGN_OR_RETURN(std::vector<appearance::ObjectCapture> report,
                           appearance::CaptureDataset(*dataset, frames, a.options, a.replace_own_colour, a.out));

@@ -26,6 +26,7 @@ Status RunReport(const ReportArgs& a) {
   MCPOSE_RETURN_IF_ERROR(CheckOutputsDistinct({{"--results", a.results}, {"--detections", a.detections}, {"--detail", a.detail}},
                                              {{"--out", a.out}}));
   MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<Dataset> dataset, Dataset::Open(a.dataset, a.split));
+  MCPOSE_RETURN_IF_ERROR(CheckOutputsOutsideDataset(*dataset, {{"--out", a.out}}));
   report::ReportInput input;
   MCPOSE_ASSIGN_OR_RETURN(input.results, ReadResultsCsv(a.results));
   input.results_path = a.results;

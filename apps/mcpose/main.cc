@@ -1,4 +1,6 @@
 #include <cstdio>
+#include <exception>
+#include <new>
 
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
@@ -24,10 +26,20 @@ int main(int argc, char** argv) {
   // Warnings and progress go to stderr; stdout carries only what a command reports.
   spdlog::set_default_logger(spdlog::stderr_color_st("mcpose"));
   spdlog::set_pattern("[%H:%M:%S] %v");
+  // The commands run inside parse. Their errors come back as a Status; what the library cannot
+  // turn into one (an allocation that fails, a thread the system refuses) ends here as one line
+  // and exit status 1, never as std::terminate. Outputs are written through temporary files and
+  // renamed, so none is left half-written.
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "mcpose: error: out of memory (fewer samples, boxes or threads need less)\n");
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "mcpose: error: %s\n", e.what());
+    return 1;
   }
   if (!status.ok()) {
     std::fprintf(stderr, "mcpose: error: %s\n", status.ToString().c_str());

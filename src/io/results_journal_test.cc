@@ -77,6 +77,32 @@ TEST(ResultsJournalTest, RefusesAnotherRunsJournalAndBadLines) {
             ": line 3: the rows before this end mark are not the 2 rows of scene_id 1, im_id 1");
 }
 
+// Kept images and rows must belong to the run's detections.
+TEST(ResultsJournalTest, KeptRowsMustBelongToTheDetections) {
+  const std::string out = (testing::TempDir("journal_belong") / "r.csv").string();
+  const std::vector<Detection> dets = {{49, 1, 3, 0.9, 1, 1, 10, 10}, {49, 1, 6, 0.9, 1, 1, 10, 10},
+                                       {49, 2, 3, 0.9, 1, 1, 10, 10}};
+  const auto journal_of = [&](const std::vector<std::pair<FrameKey, std::vector<PoseResult>>>& blocks) {
+    {
+      auto j = ResultsJournal::Open(out, "abc", false);
+      EXPECT_TRUE(j.ok());
+      for (const auto& [key, rows] : blocks) EXPECT_TRUE((*j)->Append(key, rows).ok());
+    }
+    auto j = ResultsJournal::Open(out, "abc", true);
+    EXPECT_TRUE(j.ok()) << j.status().ToString();
+    return (*j)->CheckKeptAgainst(dets);
+  };
+  EXPECT_TRUE(journal_of({{{49, 1}, Rows(49, 1, {3, 6})}, {{49, 2}, Rows(49, 2, {3})}}).ok());
+  EXPECT_TRUE(journal_of({{{49, 1}, Rows(49, 1, {6})}}).ok());  // a class without depth has no row
+  const std::string path = JournalPath(out);
+  EXPECT_EQ(journal_of({{{49, 5}, Rows(49, 5, {3})}}).message(),
+            path + ": the rows of scene_id 49, im_id 5: no detection names this image");
+  EXPECT_EQ(journal_of({{{49, 2}, Rows(49, 2, {3, 6})}}).message(),
+            path + ": the rows of scene_id 49, im_id 2: a row of obj_id 6, which no detection of this image names");
+  EXPECT_EQ(journal_of({{{49, 1}, Rows(49, 1, {3, 3})}}).message(),
+            path + ": the rows of scene_id 49, im_id 1: two rows of obj_id 3");
+}
+
 TEST(ResultsJournalTest, TornTailAfterTheLastImageIsDroppedButNotABadLineBeforeOne) {
   const std::string out = (testing::TempDir("journal_torn") / "r.csv").string();
   const std::string head = "# mcpose results journal abc\n" + ResultsCsvRow(Rows(1, 1, {2})[0]) + "\n# done 1 1 1\n";
