@@ -25,23 +25,6 @@ void Put(ColourImage* image, int x, int y, Rgba8 c) {
 
 }  // namespace
 
-DepthImage RenderDepth(const Mesh& mesh, const SE3& T_cam_obj, const Intrinsics& K) {
-  render::RasterParams params;
-  params.fx = static_cast<float>(K.fx), params.fy = static_cast<float>(K.fy);
-  params.cx = static_cast<float>(K.cx), params.cy = static_cast<float>(K.cy);
-  params.box = render::PixelRect{0, 0, K.width, K.height};
-  params.cull_backfaces = true;
-  std::vector<render::ScreenVertex> screen(mesh.vertices_m.size());
-  render::ProjectVertices(mesh.vertices_m, T_cam_obj.R.cast<float>(), T_cam_obj.t.cast<float>(), params, screen);
-  DepthImage out;
-  out.width = K.width, out.height = K.height;
-  out.depth_m.assign(static_cast<size_t>(params.box.area()), INFINITY);
-  render::RasterizeDepthReference(screen, mesh.triangles, params, out.depth_m.data(), nullptr);
-  for (float& z : out.depth_m)
-    if (std::isinf(z)) z = 0;
-  return out;
-}
-
 MaskImage Silhouette(const DepthImage& rendered) {
   MaskImage mask;
   mask.width = rendered.width, mask.height = rendered.height;

@@ -11,14 +11,13 @@
 #include "mcpose/image.h"
 #include "mcpose/mesh.h"
 #include "mcpose/se3.h"
+#include "render/depth_image.h"
 #include "render/raster.h"
 
 namespace mcpose::report {
 
-// The mesh's depth (metres) at pose T_cam_obj over the whole image, rendered by the scalar
-// reference raster core with the estimator's camera convention (pixel centres at integer
-// coordinates, back faces culled); 0 where the mesh does not cover a pixel.
-DepthImage RenderDepth(const Mesh& mesh, const SE3& T_cam_obj, const Intrinsics& K);
+// A pose's depth over the whole image: render::RenderDepth (render/depth_image.h).
+using render::RenderDepth;
 
 // The pixels a rendering covers (depth > 0), as 255.
 MaskImage Silhouette(const DepthImage& rendered);
