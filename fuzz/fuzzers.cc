@@ -20,6 +20,7 @@
 #include "io/ply_io.h"
 #include "io/png_io.h"
 #include "io/ycbv_dataset.h"
+#include "mcpose/bop19.h"
 #include "mcpose/dataset.h"
 #include "mcpose/detection.h"
 #include "mcpose/results.h"
@@ -129,6 +130,8 @@ constexpr Target kTargets[] = {
     {"bop_scene_gt", [](std::string_view b) { FuzzBopFile(b, "test/000001/scene_gt.json"); }},
     {"detections_json", [](std::string_view b) { (void)ReadDetectionsJson(InputFile(b, "dets.json")); }},
     {"results_csv", [](std::string_view b) { (void)ReadResultsCsv(InputFile(b, "res.csv")); }},
+    {"bop19_models_info", [](std::string_view b) { (void)ReadModelsInfo(InputFile(b, "models_info.json")); }},
+    {"bop19_targets", [](std::string_view b) { (void)ReadBop19Targets(InputFile(b, "targets.json")); }},
 };
 
 const Target& Selected() {

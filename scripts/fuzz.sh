@@ -49,6 +49,8 @@ printf 'ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty floa
 seed points_xyz "$Y/models/040_large_marker/points.xyz"
 printf '0.01 0.02 0.03\n-0.01 0 0.5\n' | text_seed points_xyz small.xyz
 seed bop_models_info "$B/models/models_info.json"
+seed bop19_models_info "$B/models/models_info.json"
+seed bop19_targets "$B/test_targets_bop19.json"
 seed bop_camera "$B/camera.json" "$B/camera_uw.json"
 seed bop_scene_camera "$B/test/000049/scene_camera.json"
 seed bop_scene_gt "$B/test/000049/scene_gt.json"

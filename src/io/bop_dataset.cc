@@ -38,8 +38,6 @@ bool AllDigits(const std::string& s) {
          std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
 }
 
-// An id as a JSON key: decimal digits without leading zeros ("6", not "06"), so one id has one key.
-bool IsIdKey(const std::string& s) { return AllDigits(s) && (s.size() == 1 || s[0] != '0'); }
 
 // One image's entry of scene_camera.json.
 struct CameraEntry {

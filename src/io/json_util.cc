@@ -97,4 +97,9 @@ bool JsonToDoubles(const nlohmann::json& value, size_t n, double* out) {
   return true;
 }
 
+bool IsIdKey(const std::string& s) {
+  return !s.empty() && s.size() <= 9 && s.find_first_not_of("0123456789") == std::string::npos &&
+         (s.size() == 1 || s[0] != '0');
+}
+
 }  // namespace mcpose::io

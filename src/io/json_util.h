@@ -20,4 +20,8 @@ bool JsonToInt(const nlohmann::json& value, int* out);
 // `value` as exactly `n` finite numbers; false otherwise.
 bool JsonToDoubles(const nlohmann::json& value, size_t n, double* out);
 
+// An id as a JSON key: 1-9 decimal digits without leading zeros ("6", not "06"), so that one id
+// has one key.
+bool IsIdKey(const std::string& s);
+
 }  // namespace mcpose::io
