@@ -39,7 +39,8 @@ for ((s = FIRST; s <= LAST; s++)); do
           --appearance off "$@" ;;
       *) echo "accuracy_loo: unknown run '$run' in LOO_RUNS (textured, captured, depth)" >&2; exit 2 ;;
     esac
-    ./build/mcpose eval --dataset "$DATA/ycbv" --results "$out" --json "$dir/${run}_$s.eval.json" > /dev/null
+    ./build/mcpose eval --dataset "$DATA/ycbv" --metrics ycbv,bop19 \
+      --models-info "$DATA/bop_ycbv_subset/models/models_info.json" --results "$out" --json "$dir/${run}_$s.eval.json" > /dev/null
     evals+=("$run:$dir/${run}_$s.eval.json")
   done
 done

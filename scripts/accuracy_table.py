@@ -5,7 +5,9 @@ Usage: accuracy_table.py [--per-video] [--transposed [--objects A,B] [--baseline
                          RUN:EVAL_JSON [RUN:EVAL_JSON ...]
 Each EVAL_JSON is `mcpose eval --json` output; the files of one RUN (one per seed) are averaged.
 Default: one row per object and overall, the runs side by side under ADD(-S) < 4 cm, ADD-S < 4 cm
-and ADD-S AUC (YCB-Video protocol), in %. --per-video adds the same per video (scene). Videos
+and ADD-S AUC (YCB-Video protocol), in %, and where the files hold it (`mcpose eval --metrics
+ycbv,bop19`) the BOP19 average recall with its range over the seeds. --per-video adds the same
+per video (scene). Videos
 0000-0003 are the training videos the defaults were chosen on, 0049 the test video.
 --transposed: one row per run instead (overall, and ADD(-S) < 4 cm of each object named by
 --objects), with each run's difference to --baseline.
@@ -73,6 +75,21 @@ def side_by_side(runs, names, per_video):
         print("per video (0000-0003 training, 0049 test):")
         for scene in sorted({i["scene_id"] for i in first["instances"]}):
             line(f"video {scene:04d}", video_metrics(first, scene)["instances"], scene=scene)
+    if all("bop19" in d for n in names for d in runs[n]):
+        print("BOP19 average recall, %: AR (AR_VSD / AR_MSSD / AR_MSPD)"
+              + (", then AR per video" if per_video else ""))
+        for n in names:
+            docs = runs[n]
+            m = {k: 100 * sum(d["bop19"]["overall"][k] for d in docs) / len(docs)
+                 for k in ("ar", "ar_vsd", "ar_mssd", "ar_mspd")}
+            ars = [100 * d["bop19"]["overall"]["ar"] for d in docs]
+            cells = f"{m['ar']:5.1f} ({min(ars):.1f}-{max(ars):.1f}) ({m['ar_vsd']:.1f} / {m['ar_mssd']:.1f} / {m['ar_mspd']:.1f})"
+            if per_video:
+                scenes = sorted(r["scene_id"] for r in docs[0]["bop19"]["per_scene"])
+                for scene in scenes:
+                    ar = sum(100 * r["ar"] for d in docs for r in d["bop19"]["per_scene"] if r["scene_id"] == scene)
+                    cells += f" | {scene:04d} {ar / len(docs):5.1f}"
+            print(f"{n:24} {cells}")
 
 
 def transposed(runs, names, objects, baseline):

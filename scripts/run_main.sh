@@ -28,7 +28,8 @@ scripts/estimate_loo.sh "$DATA/ycbv" out/detections.json out/results_captured.cs
 ./build/mcpose estimate --dataset "$DATA/ycbv" --detections out/detections.json --appearance off \
   --out out/results_depth.csv "$@"
 for run in "" _captured _depth; do
-  ./build/mcpose eval --dataset "$DATA/ycbv" --results "out/results$run.csv" --json "out/eval$run.json" > /dev/null
+  ./build/mcpose eval --dataset "$DATA/ycbv" --metrics ycbv,bop19 \
+      --models-info "$DATA/bop_ycbv_subset/models/models_info.json" --results "out/results$run.csv" --json "out/eval$run.json" > /dev/null
 done
 scripts/accuracy_table.py --per-video "textured:out/eval.json" "captured:out/eval_captured.json" \
   "depth:out/eval_depth.json"

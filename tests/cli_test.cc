@@ -10,6 +10,7 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -194,6 +195,92 @@ TEST(Cli, OutOfMemoryIsOneClearError) {
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   EXPECT_FALSE(fs::exists(dir / "r.csv"));
   EXPECT_TRUE(testing::LeftBeside(dir / "r.csv").empty());
+}
+
+// A real detector's raw boxes (FCOS, key frame 0049/000001): the four objects of the frame
+// within 2 cm ADD-S; each of the three classes not in the frame (boxes of detector score
+// 0.18-0.26) gets a pose too, scored below every true object's. --min-score 0.3 leaves their
+// boxes out, and only the four true objects get a row.
+TEST(Cli, RealDetectorBoxesWithoutAThreshold) {
+  const fs::path dir = testing::TempDir("fcos");
+  const std::string fcos = testing::DataDir() + "/real_detections/fcos_ycbv_0049_000001.json";
+  const std::set<int> in_frame = {3, 6, 9, 13}, not_in_frame = {2, 10, 15};
+  const auto run = [&](const std::string& extra, const std::string& out) {
+    const CliResult r = RunCli("estimate -q --seed 0 --dataset " + testing::YcbvDir() + " --detections " + fcos +
+                                   " --out " + (dir / out).string() + extra,
+                               dir);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    auto rows = ReadResultsCsv((dir / out).string());
+    EXPECT_TRUE(rows.ok()) << rows.status().ToString();
+    return rows.ok() ? *rows : std::vector<PoseResult>{};
+  };
+  const std::vector<PoseResult> all = run("", "all.csv");
+  std::set<int> classes;
+  double lowest_true = 1, highest_false = 0;
+  for (const PoseResult& row : all) {
+    classes.insert(row.obj_id);
+    if (in_frame.contains(row.obj_id))
+      lowest_true = std::min(lowest_true, row.score);
+    else
+      highest_false = std::max(highest_false, row.score);
+  }
+  std::set<int> expected = in_frame;
+  expected.insert(not_in_frame.begin(), not_in_frame.end());
+  EXPECT_EQ(classes, expected);
+  EXPECT_LT(highest_false, lowest_true);
+  const fs::path ej = dir / "eval.json";
+  const CliResult e = RunCli("eval --dataset " + testing::YcbvDir() + " --results " + (dir / "all.csv").string() +
+                                 " --detections " + fcos + " --json " + ej.string(),
+                             dir);
+  ASSERT_EQ(e.exit_code, 0) << e.err;
+  const nlohmann::json ev = nlohmann::json::parse(ReadText(ej));
+  ASSERT_EQ(ev["instances"].size(), 4u);
+  for (const nlohmann::json& i : ev["instances"]) EXPECT_LT(i["adds_m"].get<double>(), 0.02) << i.dump();
+  EXPECT_EQ(ev["unmatched_rows"].get<int>(), 3);
+
+  std::set<int> kept;
+  for (const PoseResult& row : run(" --min-score 0.3", "kept.csv")) kept.insert(row.obj_id);
+  EXPECT_EQ(kept, in_frame);
+  const CliResult none = RunCli("estimate -q --dataset " + testing::YcbvDir() + " --detections " + fcos +
+                                    " --min-score 0.99 --out " + (dir / "none.csv").string(),
+                                dir);
+  EXPECT_EQ(none.exit_code, 1);
+  EXPECT_NE(none.err.find(fcos + ": no detection scores at least --min-score 0.99"), std::string::npos) << none.err;
+}
+
+// The ground truth as results scores 100 % on every BOP19 metric: on the BOP copy with its own
+// models_info.json and targets, and on the YCB-Video layout with the BOP file given.
+TEST(Cli, Bop19MetricsOfTheTruthAreAHundredPercent) {
+  const fs::path dir = testing::TempDir("bop19");
+  for (const std::string& root : {testing::BopDir(), testing::YcbvDir()}) {
+    auto dataset = Dataset::Open(root, "test", "");
+    ASSERT_TRUE(dataset.ok()) << dataset.status().ToString();
+    std::vector<PoseResult> rows;
+    for (const FrameKey& key : (*dataset)->Frames()) {
+      auto frame = (*dataset)->LoadFrame(key);
+      ASSERT_TRUE(frame.ok()) << frame.status().ToString();
+      for (const GtInstance& gt : frame->gt) rows.push_back({key.scene_id, key.image_id, gt.obj_id, 1.0, gt.T_cam_obj, 1});
+    }
+    ASSERT_TRUE(WriteResultsCsv((dir / "gt.csv").string(), rows).ok());
+    const std::string info = root == testing::YcbvDir() ? " --models-info " + testing::BopDir() + "/models/models_info.json" : "";
+    const CliResult r = RunCli("eval --metrics bop19 --dataset " + root + " --results " + (dir / "gt.csv").string() +
+                                   info + " --json " + (dir / "e.json").string(),
+                               dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const nlohmann::json doc = nlohmann::json::parse(ReadText(dir / "e.json"));
+    EXPECT_FALSE(doc.contains("overall")) << "ycbv metrics were not asked for";
+    const nlohmann::json& all = doc["bop19"]["overall"];
+    EXPECT_GT(all["targets"].get<int>(), 0);
+    for (const char* ar : {"ar_vsd", "ar_mssd", "ar_mspd", "ar"}) EXPECT_NEAR(all[ar].get<double>(), 1.0, 1e-12) << root << " " << ar;
+    EXPECT_NE(r.out.find("BOP19 average recall"), std::string::npos) << r.out;
+  }
+  // The YCB-Video layout has no models_info.json of its own.
+  const CliResult r = RunCli("eval --metrics ycbv,bop19 --dataset " + testing::YcbvDir() + " --results " +
+                                 (dir / "gt.csv").string(),
+                             dir);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("--metrics bop19 needs the objects' diameters and symmetries: --models-info FILE"),
+            std::string::npos) << r.err;
 }
 
 // A seed outside 0..2^64-1 is refused, not wrapped around to another seed.

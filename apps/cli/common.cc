@@ -8,6 +8,7 @@
 
 #include <unistd.h>
 
+#include "core/physical_limits.h"
 #include "io/io_util.h"
 #include "render/simd_targets.h"
 
@@ -356,6 +357,14 @@ Status CheckOutputsOutsideDataset(const Dataset& dataset, std::initializer_list<
                                " holds, which this run may read; it would be overwritten (write elsewhere)");
     }
   }
+  return Status::Ok();
+}
+
+Status KeepScoresAtLeast(double min_score, const std::string& source, std::vector<Detection>* detections) {
+  if (!(min_score >= 0 && min_score <= 1)) return InvalidArgument("--min-score must lie in [0, 1]");
+  if (min_score == 0) return Status::Ok();
+  std::erase_if(*detections, [&](const Detection& d) { return d.score < min_score; });
+  if (detections->empty()) return InvalidArgument(source + ": no detection scores at least --min-score " + limits::Num(min_score));
   return Status::Ok();
 }
 

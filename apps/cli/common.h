@@ -9,6 +9,7 @@
 #include <CLI/CLI.hpp>
 
 #include "mcpose/dataset.h"
+#include "mcpose/detection.h"
 #include "mcpose/options.h"
 #include "mcpose/tracker.h"
 #include "mcpose/status.h"
@@ -86,6 +87,11 @@ Status CheckOutputsDistinct(std::initializer_list<PathArg> inputs, std::initiali
 // Ok unless an output would overwrite what the dataset holds: an existing file or folder inside
 // its root or models folder (any of them may be read), or a folder holding either.
 Status CheckOutputsOutsideDataset(const Dataset& dataset, std::initializer_list<PathArg> outputs);
+
+// --min-score: drops the detections whose score is below `min_score` (0, the default, keeps every
+// box, as the paper prescribes: the estimator weighs each box by its score instead). Refuses a
+// value outside [0, 1], and a threshold no detection of `source` meets.
+Status KeepScoresAtLeast(double min_score, const std::string& source, std::vector<Detection>* detections);
 
 // The SIMD target the kernels dispatch to now, and those this build and CPU offer.
 std::string ActiveSimdTarget();

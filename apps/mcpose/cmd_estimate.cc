@@ -22,6 +22,7 @@ namespace {
 struct EstimateArgs {
   std::string dataset, split = "test", models, detections, out, out_json;
   std::vector<int> scenes;
+  double min_score = 0;
   bool quiet = false, resume = false;
   EstimatorFlags flags;
 };
@@ -86,6 +87,7 @@ Status RunEstimate(EstimateArgs& a) {
     });
     if (detections.empty()) return InvalidArgument(a.detections + ": holds no detections of the scenes given by --scene");
   }
+  MCPOSE_RETURN_IF_ERROR(KeepScoresAtLeast(a.min_score, a.detections, &detections));
 
   if (a.resume && !a.out_json.empty())
     return InvalidArgument("--out-json cannot be combined with --resume: the detail of the images an earlier run "
@@ -158,6 +160,9 @@ void AddEstimateCommand(CLI::App& app, Status* status) {
                   "dataset's own, e.g. one written by capture-appearance");
   cmd->add_option("--detections", args->detections, "BOP default-detections JSON")->required();
   cmd->add_option("--scene", args->scenes, "Estimate only the detections of this scene_id (may be repeated)");
+  cmd->add_option("--min-score", args->min_score,
+                  "Leave out boxes whose detector score is below this (default 0: every box, each weighed by its score)")
+      ->capture_default_str();
   cmd->add_option("--out", args->out, "Results CSV (BOP format: scene_id,im_id,obj_id,score,R,t,time)")->required();
   cmd->add_option("--out-json", args->out_json, "Per-object detail: chosen box, per-iteration weights and times, engine counters");
   AddEstimatorFlags(cmd, kAllEstimatorFlags, &args->flags);

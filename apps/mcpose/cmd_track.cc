@@ -30,6 +30,7 @@ namespace {
 struct TrackArgs {
   std::string dataset, split = "test", models, detections, out, out_json, frames;
   int video = -1;
+  double min_score = 0;
   bool quiet = false;
   EstimatorFlags flags;
   TrackerOptions tracker;
@@ -78,6 +79,7 @@ Status RunTrack(TrackArgs& a) {
   std::map<FrameKey, std::map<int, std::vector<Detection>>> boxes;
   if (!a.detections.empty()) {
     MCPOSE_ASSIGN_OR_RETURN(std::vector<Detection> dets, ReadDetectionsJson(a.detections));
+    MCPOSE_RETURN_IF_ERROR(KeepScoresAtLeast(a.min_score, a.detections, &dets));
     MCPOSE_RETURN_IF_ERROR(CheckDetectionsAgainstDataset(*dataset, dets, a.detections));
     for (const Detection& d : dets) boxes[FrameKey{d.scene_id, d.image_id}][d.obj_id].push_back(d);
   } else {  // tight boxes of the ground-truth visible masks
@@ -174,6 +176,8 @@ void AddTrackCommand(CLI::App& app, Status* status) {
   cmd->add_option("--detections", args->detections,
                   "BOP detections JSON that starts (and restarts lost) tracks; default: tight boxes of the ground-truth "
                   "visible masks");
+  cmd->add_option("--min-score", args->min_score, "Leave out boxes of --detections whose score is below this (default 0)")
+      ->capture_default_str();
   cmd->add_option("--out", args->out, "Results CSV, one row per (frame, object)")->required();
   cmd->add_option("--out-json", args->out_json, "Per (frame, object): started, tracked or lost, weight, fit, iterations, box, time");
   AddTrackerFlags(cmd, &t);
