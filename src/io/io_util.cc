@@ -6,6 +6,7 @@
 #include <cstring>
 #include <filesystem>
 #include <random>
+#include <string_view>
 #include <system_error>
 
 #include <fcntl.h>
@@ -89,11 +90,22 @@ StatusOr<std::string> CreateFolderBeside(const std::string& path, const char* ta
   return Internal(path + ": cannot find a free folder name beside it");
 }
 
+namespace {
+// What a lock file holds: a file of that name holding anything else is the user's, never taken.
+constexpr std::string_view kLockText = "mcpose lock\n";
+}  // namespace
+
 StatusOr<std::unique_ptr<FileLock>> FileLock::Acquire(const std::string& path) {
   // A holder removes the file when it is done: a process that opened the old file and locks it
   // afterwards finds the name gone or another file's, and opens the name again.
   for (int attempt = 0; attempt < 100; ++attempt) {
-    const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
+    bool created = true;
+    int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC | O_NOFOLLOW, 0644);
+    if (fd < 0 && errno == EEXIST) {
+      created = false;
+      fd = ::open(path.c_str(), O_RDWR | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK);
+      if (fd < 0 && errno == ENOENT) continue;  // removed in between
+    }
     if (fd < 0 && errno == ELOOP) return InvalidArgument(path + ": is a link; a lock file is never one");
     if (fd < 0) return NotFound(path + ": cannot create the lock file (" + std::strerror(errno) + ")");
     if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
@@ -103,15 +115,24 @@ StatusOr<std::unique_ptr<FileLock>> FileLock::Acquire(const std::string& path) {
       return Internal(path + ": cannot lock (" + std::strerror(error) + ")");
     }
     struct stat held, named;
-    if (::fstat(fd, &held) == 0 && ::lstat(path.c_str(), &named) == 0 && held.st_dev == named.st_dev &&
-        held.st_ino == named.st_ino) {
-      if (!S_ISREG(held.st_mode)) {
-        ::close(fd);
-        return InvalidArgument(path + ": is not a regular file");
-      }
-      return std::unique_ptr<FileLock>(new FileLock(path, fd));
+    if (::fstat(fd, &held) != 0 || ::lstat(path.c_str(), &named) != 0 || held.st_dev != named.st_dev ||
+        held.st_ino != named.st_ino) {
+      ::close(fd);
+      continue;
     }
-    ::close(fd);
+    // A file this run did not create is taken over only if it is a lock file a killed run left.
+    std::string text(kLockText.size() + 1, '\0');
+    const ssize_t got = created ? 0 : ::pread(fd, text.data(), text.size(), 0);
+    if (!S_ISREG(held.st_mode) || (!created && std::string_view(text.data(), got > 0 ? got : 0) != kLockText)) {
+      ::close(fd);
+      return InvalidArgument(path + ": exists and is not a lock file of mcpose; it is left alone (move it away)");
+    }
+    if (created && ::write(fd, kLockText.data(), kLockText.size()) != static_cast<ssize_t>(kLockText.size())) {
+      ::unlink(path.c_str());
+      ::close(fd);
+      return Internal(path + ": cannot write the lock file (" + std::strerror(errno) + ")");
+    }
+    return std::unique_ptr<FileLock>(new FileLock(path, fd));
   }
   return Internal(path + ": cannot take the lock (the file keeps changing)");
 }

@@ -27,9 +27,10 @@ StatusOr<TempFile> CreateTempFileBeside(const std::string& path);
 // ".tmp-"), created exclusively with the permissions the user's umask gives. Its name.
 StatusOr<std::string> CreateFolderBeside(const std::string& path, const char* tag);
 
-// An exclusive lock held through the file `path` (created if absent, never through a link) for
+// An exclusive lock held through the file `path` (created exclusively, never through a link) for
 // as long as the object lives; the file is removed when it goes. A lock file left by a run that
-// was killed holds nothing (the system drops the lock) and is taken over.
+// was killed holds no lock (the system drops it) and is taken over; a file of that name holding
+// anything but a lock file's text is the user's and refused, never removed.
 class FileLock {
  public:
   // Fails at once, naming `path`, if another process holds it.

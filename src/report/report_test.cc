@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <set>
 
 #include <gtest/gtest.h>
@@ -226,6 +227,17 @@ TEST(Report, OneRunAtATimeIntoAFolder) {
     EXPECT_FALSE(fs::exists(out));
   }
   EXPECT_FALSE(fs::exists(out.string() + ".lock"));
+  // A file of the user's under the lock's name is refused and left as it was.
+  Write(fs::path(out.string() + ".lock"), "mine");
+  auto theirs = WriteReport(run.dataset, run.input, out.string());
+  ASSERT_FALSE(theirs.ok());
+  EXPECT_EQ(theirs.status().message(),
+            out.string() + ".lock: exists and is not a lock file of mcpose; it is left alone (move it away)");
+  std::ifstream kept(out.string() + ".lock");
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(kept), {}), "mine");
+  fs::remove(out.string() + ".lock");
+  // One a killed run left (the lock file's text, no lock held) is taken over and removed.
+  Write(fs::path(out.string() + ".lock"), "mcpose lock\n");
   // Free again: the run gets past the lock (to the fake dataset's missing meshes), and its own
   // lock file goes with it.
   auto summary = WriteReport(run.dataset, run.input, out.string());
