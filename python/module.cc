@@ -254,6 +254,7 @@ py::dict ObjectDict(const ObjectRecord& r) {
   const ObjectEstimate& e = r.estimate;
   py::dict o;
   o["obj_id"] = r.obj_id;
+  o["instance"] = r.instance;
   o["name"] = r.name;
   o["T_cam_obj"] = PoseMatrix(e.T_cam_obj);
   o["score"] = e.best_weight;
@@ -312,7 +313,8 @@ std::map<int, std::vector<Detection>> CheckedByClass(const std::vector<Detection
   return by_class;
 }
 
-// Runs `estimate(estimator)` with the estimator of `seed`, the GIL released; {obj_id: dict}.
+// Runs `estimate(estimator)` with the estimator of `seed`, the GIL released; {obj_id: dict} of
+// each class's first instance, whose "instances" lists every instance's dict, the first included.
 template <typename Fn>
 py::dict EstimateLocked(PyEstimator& self, std::optional<uint64_t> seed, const Fn& estimate) {
   const std::unique_lock<std::mutex> lock = LockReleasingGil(*self.mutex);
@@ -323,7 +325,18 @@ py::dict EstimateLocked(PyEstimator& self, std::optional<uint64_t> seed, const F
     image = estimate(estimator);
   }
   py::dict out;
-  for (const ObjectRecord& r : Value(std::move(image)).objects) out[py::int_(r.obj_id)] = ObjectDict(r);
+  for (const ObjectRecord& r : Value(std::move(image)).objects) {
+    const py::int_ obj_id(r.obj_id);
+    if (r.instance == 0) {
+      py::dict first = ObjectDict(r);
+      py::list instances;
+      instances.append(ObjectDict(r));
+      first["instances"] = instances;
+      out[obj_id] = first;
+    } else {
+      out[obj_id].cast<py::dict>()["instances"].cast<py::list>().append(ObjectDict(r));
+    }
+  }
   return out;
 }
 

@@ -22,6 +22,10 @@ void AddEstimatorFlags(CLI::App* cmd, unsigned groups, EstimatorFlags* f) {
         ->check(SeedCheck())
         ->capture_default_str();
   }
+  if (groups & kInstanceFlags)
+    cmd->add_option("--max-instances", o.max_instances,
+                    "Instances of one class an image may hold; 0: as many as its boxes show, 1: one pose per class")
+        ->capture_default_str();
   if (groups & kStoppingFlags) {
     cmd->add_option("--iterations", o.max_iterations, "Iteration limit")->capture_default_str();
     cmd->add_option("--tau", o.tau, "Stop when the mean weight exceeds tau")->capture_default_str();
@@ -250,7 +254,7 @@ StatusOr<TrackerOptions> ParseTrackerOptions(const std::vector<std::string>& arg
   EstimatorFlags flags;
   TrackerOptions options;
   AddTrackerFlags(&app, &options);
-  AddEstimatorFlags(&app, kAllEstimatorFlags, &flags);
+  AddEstimatorFlags(&app, kAllEstimatorFlags & ~kInstanceFlags, &flags);
   MCPOSE_RETURN_IF_ERROR(ParseArgs(app, flags, args));
   options.estimator = flags.options;
   std::string error;

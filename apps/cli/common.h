@@ -25,7 +25,8 @@ enum FlagGroup : unsigned {
   kEngineFlags = 1u << 4,    // --engine, its features, --threads, --simd-target
   kAppearanceFlags = 1u << 5,  // --appearance --colour-weight --colour-min-pixels
   kRefineFlags = 1u << 6,      // --refine ...
-  kAllEstimatorFlags = 0x7f,
+  kInstanceFlags = 1u << 7,    // --max-instances (estimation jobs, not tracking)
+  kAllEstimatorFlags = 0xff,
 };
 
 // The estimator's options as flags: parsed into `options` and finished by Finish().

@@ -11,6 +11,7 @@
 #include "engine/pipeline.h"
 #include "io/options_json.h"
 #include "io/results_journal.h"
+#include "mcpose/bop19.h"
 #include "mcpose/dataset.h"
 #include "mcpose/detection.h"
 #include "mcpose/results.h"
@@ -20,7 +21,7 @@ namespace mcpose::cli {
 namespace {
 
 struct EstimateArgs {
-  std::string dataset, split = "test", models, detections, out, out_json;
+  std::string dataset, split = "test", models, detections, targets, out, out_json;
   std::vector<int> scenes;
   double min_score = 0;
   bool quiet = false, resume = false;
@@ -43,6 +44,7 @@ nlohmann::json ObjectJson(const ObjectRecord& r) {
       {"scene_id", r.key.scene_id},
       {"im_id", r.key.image_id},
       {"obj_id", r.obj_id},
+      {"instance", r.instance},
       {"name", r.name},
       {"boxes", r.num_boxes},
       {"chosen_box", {{"bbox", {r.chosen_box.x, r.chosen_box.y, r.chosen_box.w, r.chosen_box.h}},
@@ -74,7 +76,8 @@ Status RunEstimate(EstimateArgs& a) {
   const EstimatorOptions& o = a.flags.options;
 
   // ---- Inputs and outputs, checked before any work -------------------------------------
-  MCPOSE_RETURN_IF_ERROR(CheckOutputsDistinct({{"--detections", a.detections}}, {{"--out", a.out}, {"--out-json", a.out_json}}));
+  MCPOSE_RETURN_IF_ERROR(CheckOutputsDistinct({{"--detections", a.detections}, {"--targets", a.targets}},
+                                              {{"--out", a.out}, {"--out-json", a.out_json}}));
   MCPOSE_RETURN_IF_ERROR(CheckWritable(a.out));
   if (!a.out_json.empty()) MCPOSE_RETURN_IF_ERROR(CheckWritable(a.out_json));
   MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<Dataset> dataset, Dataset::Open(a.dataset, a.split, a.models));
@@ -88,6 +91,17 @@ Status RunEstimate(EstimateArgs& a) {
     if (detections.empty()) return InvalidArgument(a.detections + ": holds no detections of the scenes given by --scene");
   }
   MCPOSE_RETURN_IF_ERROR(KeepScoresAtLeast(a.min_score, a.detections, &detections));
+  // BOP's targets: each (image, class) they name holds inst_count instances.
+  InstanceCounts instance_counts;
+  std::string counts_text;
+  if (!a.targets.empty()) {
+    MCPOSE_ASSIGN_OR_RETURN(const std::vector<Bop19Target> targets, ReadBop19Targets(a.targets));
+    for (const Bop19Target& t : targets) {
+      instance_counts[{t.key, t.obj_id}] = t.inst_count;
+      counts_text += std::to_string(t.key.scene_id) + " " + std::to_string(t.key.image_id) + " " + std::to_string(t.obj_id) +
+                     " " + std::to_string(t.inst_count) + "\n";
+    }
+  }
 
   if (a.resume && !a.out_json.empty())
     return InvalidArgument("--out-json cannot be combined with --resume: the detail of the images an earlier run "
@@ -96,7 +110,8 @@ Status RunEstimate(EstimateArgs& a) {
   MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<io::ResultsJournal> journal,
                           io::ResultsJournal::Open(a.out,
                                                    io::RunFingerprint(o, detections,
-                                                                      {a.dataset, a.split, dataset->models_dir()}),
+                                                                      {a.dataset, a.split, dataset->models_dir(),
+                                                                       counts_text}),
                                                    a.resume));
   MCPOSE_RETURN_IF_ERROR(journal->CheckKeptAgainst(detections));
   if (journal->kept_images() > 0 && !a.quiet)
@@ -105,8 +120,9 @@ Status RunEstimate(EstimateArgs& a) {
   // ---- Run ------------------------------------------------------------------------------
   auto progress = [&](int done, int total, const ObjectRecord& r) {
     if (a.quiet) return;
-    spdlog::info("[{}/{}] scene {} image {} obj {:2d} {:<24} boxes {} it {:2d} best w {:.3f} mean w {:.3f} {:.2f} s",
-                 done, total, r.key.scene_id, r.key.image_id, r.obj_id, r.name, r.num_boxes,
+    spdlog::info("[{}/{}] scene {} image {} obj {:2d}{} {:<24} boxes {} it {:2d} best w {:.3f} mean w {:.3f} {:.2f} s",
+                 done, total, r.key.scene_id, r.key.image_id, r.obj_id,
+                 r.instance > 0 ? " #" + std::to_string(r.instance + 1) : std::string(), r.name, r.num_boxes,
                  r.estimate.iterations.size(), r.estimate.best_weight, r.estimate.final_mean_weight(), r.time_s);
   };
   const auto image_done = [&](const FrameKey& key, const std::vector<PoseResult>& rows) {
@@ -114,7 +130,8 @@ Status RunEstimate(EstimateArgs& a) {
   };
   const auto skip = [&](const FrameKey& key) { return journal->Has(key); };
   MCPOSE_ASSIGN_OR_RETURN(RunReport report,
-                          RunEstimation(*dataset, detections, a.detections, o, progress, image_done, skip));
+                          RunEstimation(*dataset, detections, a.detections, o, progress, image_done, skip,
+                                        a.targets.empty() ? nullptr : &instance_counts));
 
   // ---- Outputs: written only after everything succeeded ---------------------------------
   if (!a.out_json.empty()) {
@@ -152,7 +169,7 @@ Status RunEstimate(EstimateArgs& a) {
 
 void AddEstimateCommand(CLI::App& app, Status* status) {
   auto args = std::make_shared<EstimateArgs>();
-  CLI::App* cmd = app.add_subcommand("estimate", "Estimate one 6-DoF pose per (image, class) from 2D detections");
+  CLI::App* cmd = app.add_subcommand("estimate", "Estimate the 6-DoF pose of each object instance from 2D detections");
   cmd->add_option("--dataset", args->dataset, "Dataset root (YCB-Video native or BOP layout, auto-detected)")->required();
   cmd->add_option("--split", args->split, "BOP split folder")->capture_default_str();
   cmd->add_option("--models", args->models,
@@ -163,6 +180,9 @@ void AddEstimateCommand(CLI::App& app, Status* status) {
   cmd->add_option("--min-score", args->min_score,
                   "Leave out boxes whose detector score is below this (default 0: every box, each weighed by its score)")
       ->capture_default_str();
+  cmd->add_option("--targets", args->targets,
+                  "BOP's test_targets_bop19.json: each (image, class) it names holds its inst_count instances "
+                  "(overrides --max-instances there)");
   cmd->add_option("--out", args->out, "Results CSV (BOP format: scene_id,im_id,obj_id,score,R,t,time)")->required();
   cmd->add_option("--out-json", args->out_json, "Per-object detail: chosen box, per-iteration weights and times, engine counters");
   AddEstimatorFlags(cmd, kAllEstimatorFlags, &args->flags);

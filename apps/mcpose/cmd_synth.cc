@@ -81,6 +81,10 @@ void AddSynthCommand(CLI::App& app, Status* status) {
       ->check(SeedCheck())
       ->capture_default_str();
   cmd->add_option("--objects", args->objects, "The least and the most objects a frame")->expected(2)->capture_default_str();
+  cmd->add_option("--copies", args->options.scene.copies,
+                  "The first object of each frame appears this many times, side by side (several instances of one "
+                  "class)")
+      ->capture_default_str();
   cmd->add_option("--distance", args->distance, "Nearest and farthest object from the camera, metres")
       ->expected(2)
       ->capture_default_str();

@@ -17,6 +17,10 @@ inline constexpr int kMaxCdfTable = 1 << 20;        // resample.cdf_table_size e
 inline constexpr int kMaxThreads = 1024;            // engine.threads
 inline constexpr double kMaxSigmaM = 10.0;          // translation sigmas, metres (a scene's scale)
 inline constexpr double kMaxSigmaRad = 6.2831853;   // rotation sigmas, radians (a full turn)
+// Detector boxes of one image, all classes together: at most this many (detectors keep 100-300;
+// each box costs its scorer's buffers, so a million would take minutes and gigabytes); also the
+// most instances of a class (max_instances).
+inline constexpr int kMaxBoxesPerImage = 10'000;
 }  // namespace limits
 
 // How a rendered pixel is tested against the observed depth.
@@ -217,6 +221,11 @@ struct EstimatorOptions {
   int max_iterations = 50;   // >= 1
   double tau = 0.85;         // Step 6: stop when the mean weight of the samples exceeds tau
   uint64_t seed = 0;         // same seed, same result at any thread count
+  // Instances of one class an image may hold (0 to limits::kMaxBoxesPerImage; 0: as many as
+  // its boxes show). The first is the filter's over all the class's boxes; each further cluster
+  // of boxes (engine/instances.h) gets a filter of its own, and its pose is another instance
+  // unless it explains the depth pixels of one kept before it. 1: one pose per class.
+  int max_instances = 0;
 
   InitOptions init;
   WeightOptions weight;

@@ -21,7 +21,7 @@ for a file that cannot be decoded.
         steps = tracker.track_frame(ds.load_frame(49, image_id), dets, ds)
 """
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -72,12 +72,15 @@ class Dataset(_mcpose.Dataset):
 
 @dataclass
 class ObjectResult:
-    """The pose of one object class in one image.
+    """The pose of one object instance in one image.
 
     ``T_cam_obj``: (4, 4) float64, metres. ``score``: the best weight, [0, 1] (the BOP score).
     ``iterations``: filter iterations run. ``box``: the chosen detection (BOP dict plus its
-    ``index`` among the class's boxes). ``per_iteration``: (iterations,) array of
-    ``PER_ITERATION_DTYPE``. ``time_s``: wall time of this object, seconds.
+    ``index`` among the boxes its filter sampled). ``per_iteration``: (iterations,) array of
+    ``PER_ITERATION_DTYPE``. ``time_s``: wall time of this object, seconds. ``instance``: 0 for
+    the class's first instance (the filter over all its boxes), k > 0 for a further one
+    (``max_instances``). ``instances``: on a class's first instance, every instance of the class
+    in the image, itself first; empty on the others.
     """
     obj_id: int
     name: str
@@ -87,12 +90,18 @@ class ObjectResult:
     box: dict
     per_iteration: np.ndarray
     time_s: float
+    instance: int = 0
+    instances: list = field(default_factory=list)
 
 
 def _result(d):
     per = np.ascontiguousarray(d["per_iteration"]).view(PER_ITERATION_DTYPE).reshape(-1)
-    return ObjectResult(obj_id=d["obj_id"], name=d["name"], T_cam_obj=d["T_cam_obj"], score=d["score"],
-                        iterations=d["iterations"], box=d["box"], per_iteration=per, time_s=d["time_s"])
+    r = ObjectResult(obj_id=d["obj_id"], name=d["name"], T_cam_obj=d["T_cam_obj"], score=d["score"],
+                     iterations=d["iterations"], box=d["box"], per_iteration=per, time_s=d["time_s"],
+                     instance=d["instance"])
+    if "instances" in d:
+        r.instances = [r] + [_result(i) for i in d["instances"][1:]]
+    return r
 
 
 def _option_args(options):
@@ -143,7 +152,8 @@ class Estimator:
         the random streams, as in ``mcpose estimate``). meshes: ``{obj_id: Mesh}``, a mesh for
         every class of the detections. rgb: optional (H, W, 3) uint8 colour registered to the
         depth. seed: overrides the estimator's seed.
-        Returns ``{obj_id: ObjectResult}``.
+        Returns ``{obj_id: ObjectResult}``: each class's first instance, its ``instances``
+        listing every instance the boxes show (``max_instances``).
         """
         out = self._impl.estimate(depth, K, list(detections), dict(meshes), rgb, seed)
         return {k: _result(v) for k, v in out.items()}

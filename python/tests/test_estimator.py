@@ -54,12 +54,18 @@ def test_estimate_equals_cli(ycbv, tmp_path):
     mcpose.write_detections(str(path), dets)
     run_cli("estimate", "--dataset", YCBV, "--detections", path, "--out", tmp_path / "r.csv",
             "--out-json", tmp_path / "r.json", "--seed", 5, "--threads", 2, "-q")
-    cli = {o["obj_id"]: o for o in json.loads((tmp_path / "r.json").read_text())["objects"]}
+    objects = json.loads((tmp_path / "r.json").read_text())["objects"]
+    cli = {o["obj_id"]: o for o in objects if o["instance"] == 0}
 
     est = mcpose.Estimator(seed=5, threads=2)
     frame = ycbv.load_frame(49, 1)
     got = est.estimate_frame(frame, dets, ycbv)
     assert sorted(got) == sorted(cli) == [3, 6, 9, 13]
+    for obj_id, r in got.items():  # every instance, as the CLI writes them
+        assert [i.instance for i in r.instances] == [o["instance"] for o in objects if o["obj_id"] == obj_id]
+        assert [i.T_cam_obj[:3, :3].ravel().tolist() for i in r.instances] == \
+            [o["R"] for o in objects if o["obj_id"] == obj_id]
+    assert sum(len(r.instances) for r in got.values()) == len(objects)
     for obj_id, r in got.items():
         o = cli[obj_id]
         assert r.T_cam_obj.shape == (4, 4) and r.T_cam_obj.dtype == np.float64

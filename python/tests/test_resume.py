@@ -40,8 +40,7 @@ def test_sigkill_then_resume(cli_run, run_detections, tmp_path):
     assert f"resuming: {kept} finished images kept" in r.stdout + r.stderr
     assert not journal.exists()
     rows, expected = rows_without_time(out), rows_without_time(cli_run)
-    keys = [row[:3] for row in rows]
-    assert len(keys) == len(set(keys)), "a row twice"
+    assert len(rows) == len({tuple(row) for row in rows}), "a row twice"
     assert rows == expected
 
 

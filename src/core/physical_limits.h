@@ -12,6 +12,8 @@
 
 #include <Eigen/Core>
 
+#include "mcpose/options.h"  // limits::kMaxBoxesPerImage
+
 namespace mcpose::limits {
 
 // Images: the largest side of any image read (depth, colour, label, texture), checked against
@@ -46,10 +48,6 @@ inline constexpr int kMaxJsonDepth = 64;
 
 // Detector boxes: corner and sides within this many pixels of the origin.
 inline constexpr double kMaxBoxPx = 4.0 * kMaxImageSide;
-
-// Detector boxes of one image, all classes together: at most this many (detectors keep 100-300;
-// each box costs its scorer's buffers, so a million would take minutes and gigabytes).
-inline constexpr int kMaxBoxesPerImage = 10'000;
 
 // "%g" of a value, for messages.
 inline std::string Num(double v) {

@@ -62,6 +62,9 @@ bool EstimatorOptions::IsValid(std::string* error) const {
     return Fail(error, "max_iterations must lie in [1, " + std::to_string(limits::kMaxIterations) + "], got " +
                            std::to_string(max_iterations));
   if (!std::isfinite(tau)) return Fail(error, "tau must be finite");
+  if (max_instances < 0 || max_instances > limits::kMaxBoxesPerImage)
+    return Fail(error, "max_instances must lie in [0, " + std::to_string(limits::kMaxBoxesPerImage) + "], got " +
+                           std::to_string(max_instances));
 
   if (!(init.depth_quantile >= 0 && init.depth_quantile <= 1))
     return Fail(error, "init.depth_quantile must lie in [0, 1]");

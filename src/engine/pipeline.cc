@@ -11,6 +11,7 @@
 #include "core/physical_limits.h"
 #include "core/rng.h"
 #include "engine/box_scorer.h"
+#include "engine/instances.h"
 
 namespace mcpose {
 namespace {
@@ -46,34 +47,75 @@ StatusOr<ImageEstimate> EstimateImage(Estimator& estimator, const FrameKey& key,
                                       const std::map<int, std::vector<Detection>>& boxes,
                                       const std::map<int, const Mesh*>& meshes,
                                       const std::function<std::string(int)>& name_of,
-                                      const std::function<void(const ObjectRecord&)>& on_object) {
+                                      const std::function<void(const ObjectRecord&)>& on_object,
+                                      const std::map<int, int>* instances_of_class) {
   using Clock = std::chrono::steady_clock;
   const auto image_start = Clock::now();
-  if (!ImageWantsColour(estimator.options(), boxes, meshes)) colour = nullptr;
+  const EstimatorOptions& options = estimator.options();
+  if (!ImageWantsColour(options, boxes, meshes)) colour = nullptr;
   ImageEstimate out;
   for (const auto& [obj_id, dets] : boxes) {
-    const auto start = Clock::now();
-    MCPOSE_ASSIGN_OR_RETURN(ObjectEstimate est,
-                            estimator.Estimate(K, depth, colour, *meshes.at(obj_id), dets,
-                                               GroupStreamId(key.scene_id, key.image_id, obj_id)));
-    ObjectRecord rec;
-    rec.key = key;
-    rec.obj_id = obj_id;
-    if (name_of) rec.name = name_of(obj_id);
-    rec.num_boxes = static_cast<int>(dets.size());
-    rec.chosen_box = dets[est.best_box];
-    rec.estimate = std::move(est);
-    rec.time_s = std::chrono::duration<double>(Clock::now() - start).count();
-
-    PoseResult row;
-    row.scene_id = key.scene_id;
-    row.im_id = key.image_id;
-    row.obj_id = obj_id;
-    row.score = rec.estimate.best_weight;
-    row.T_cam_obj = rec.estimate.T_cam_obj;
-    out.rows.push_back(row);
-    out.objects.push_back(std::move(rec));
-    if (on_object) on_object(out.objects.back());
+    const Mesh& mesh = *meshes.at(obj_id);
+    const uint64_t stream = GroupStreamId(key.scene_id, key.image_id, obj_id);
+    int max_instances = options.max_instances > 0 ? options.max_instances : static_cast<int>(dets.size());
+    if (instances_of_class) {
+      const auto given = instances_of_class->find(obj_id);
+      if (given != instances_of_class->end()) max_instances = std::max(1, given->second);
+    }
+    // One instance: the filter over all the class's boxes. Then one per further cluster of
+    // boxes, unless it explains the pixels of an instance kept before it.
+    std::vector<ObjectRecord> kept;
+    std::vector<std::vector<int>> kept_pixels;
+    const auto estimate = [&](std::span<const Detection> group, uint64_t group_stream,
+                              int instance) -> StatusOr<ObjectRecord> {
+      const auto start = Clock::now();
+      MCPOSE_ASSIGN_OR_RETURN(ObjectEstimate est, estimator.Estimate(K, depth, colour, mesh, group, group_stream));
+      ObjectRecord rec;
+      rec.key = key;
+      rec.obj_id = obj_id;
+      rec.instance = instance;
+      if (name_of) rec.name = name_of(obj_id);
+      rec.num_boxes = static_cast<int>(group.size());
+      rec.chosen_box = group[static_cast<size_t>(est.best_box)];
+      rec.estimate = std::move(est);
+      rec.time_s = std::chrono::duration<double>(Clock::now() - start).count();
+      return rec;
+    };
+    MCPOSE_ASSIGN_OR_RETURN(ObjectRecord first, estimate(dets, stream, 0));
+    kept.push_back(std::move(first));
+    const std::vector<std::vector<int>> clusters =
+        max_instances > 1 && dets.size() > 1 ? engine::ClusterBoxes(dets) : std::vector<std::vector<int>>{};
+    if (clusters.size() > 1) {
+      const int first_box = kept.front().estimate.best_box;
+      kept_pixels.push_back(engine::ExplainedPixels(mesh, kept.front().estimate.T_cam_obj, K, depth,
+                                                    options.weight.eps_m));
+      for (size_t c = 0; c < clusters.size() && static_cast<int>(kept.size()) < max_instances; ++c) {
+        if (std::find(clusters[c].begin(), clusters[c].end(), first_box) != clusters[c].end()) continue;
+        std::vector<Detection> group;
+        for (int i : clusters[c]) group.push_back(dets[static_cast<size_t>(i)]);
+        MCPOSE_ASSIGN_OR_RETURN(ObjectRecord rec,
+                                estimate(group, HashCombine(stream, c + 1), static_cast<int>(kept.size())));
+        std::vector<int> pixels =
+            engine::ExplainedPixels(mesh, rec.estimate.T_cam_obj, K, depth, options.weight.eps_m);
+        const bool same = std::any_of(kept_pixels.begin(), kept_pixels.end(), [&](const std::vector<int>& p) {
+          return engine::SharedShare(pixels, p) > engine::kSameObjectShare;
+        });
+        if (same) continue;
+        kept.push_back(std::move(rec));
+        kept_pixels.push_back(std::move(pixels));
+      }
+    }
+    for (ObjectRecord& rec : kept) {
+      PoseResult row;
+      row.scene_id = key.scene_id;
+      row.im_id = key.image_id;
+      row.obj_id = obj_id;
+      row.score = rec.estimate.best_weight;
+      row.T_cam_obj = rec.estimate.T_cam_obj;
+      out.rows.push_back(row);
+      out.objects.push_back(std::move(rec));
+      if (on_object) on_object(out.objects.back());
+    }
   }
   // BOP's time column: the whole image, the same on each of its rows.
   const double image_s = std::chrono::duration<double>(Clock::now() - image_start).count();
@@ -158,27 +200,30 @@ StatusOr<ImageGroups> GroupDetections(const Dataset& dataset, const std::vector<
 StatusOr<ImageEstimate> EstimateFrame(Estimator& estimator, const Dataset& dataset, const Frame& frame,
                                       const std::map<int, std::vector<Detection>>& boxes,
                                       const std::map<int, const Mesh*>& meshes,
-                                      const std::function<void(const ObjectRecord&)>& on_object) {
+                                      const std::function<void(const ObjectRecord&)>& on_object,
+                                      const std::map<int, int>* instances_of_class) {
   std::optional<ColourImage> colour;
   if (ImageWantsColour(estimator.options(), boxes, meshes)) {
     MCPOSE_ASSIGN_OR_RETURN(colour, dataset.LoadColour(frame));
   }
   return EstimateImage(estimator, frame.key, frame.K, frame.depth, colour ? &*colour : nullptr, boxes, meshes,
-                       [&](int obj_id) { return dataset.ObjectName(obj_id); }, on_object);
+                       [&](int obj_id) { return dataset.ObjectName(obj_id); }, on_object, instances_of_class);
 }
 
 StatusOr<RunReport> RunEstimation(const Dataset& dataset, const std::vector<Detection>& detections,
                                   const std::string& detections_source,
                                   const EstimatorOptions& options, const ProgressFn& progress,
-                                  const ImageDoneFn& image_done, const SkipImageFn& skip) {
+                                  const ImageDoneFn& image_done, const SkipImageFn& skip,
+                                  const InstanceCounts* instance_counts) {
   MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<Estimator> estimator, Estimator::Create(options));
-  return RunEstimation(*estimator, dataset, detections, detections_source, progress, image_done, skip);
+  return RunEstimation(*estimator, dataset, detections, detections_source, progress, image_done, skip,
+                       instance_counts);
 }
 
 StatusOr<RunReport> RunEstimation(Estimator& estimator, const Dataset& dataset,
                                   const std::vector<Detection>& detections, const std::string& detections_source,
                                   const ProgressFn& progress, const ImageDoneFn& image_done,
-                                  const SkipImageFn& skip) {
+                                  const SkipImageFn& skip, const InstanceCounts* instance_counts) {
   MCPOSE_ASSIGN_OR_RETURN(const ImageGroups groups, GroupDetections(dataset, detections, detections_source));
 
   // ---- Load the meshes before estimating anything -----------------------------------------
@@ -212,10 +257,16 @@ StatusOr<RunReport> RunEstimation(Estimator& estimator, const Dataset& dataset,
     }
     MCPOSE_ASSIGN_OR_RETURN(Frame frame, dataset.LoadFrame(key));
     const auto on_object = [&](const ObjectRecord& r) {
-      ++done;
+      if (r.instance == 0) ++done;  // progress counts classes; a class's further instances follow it
       if (progress) progress(done, total, r);
     };
-    MCPOSE_ASSIGN_OR_RETURN(ImageEstimate image, EstimateFrame(estimator, dataset, frame, by_class, mesh_of, on_object));
+    std::map<int, int> instances_of_class;
+    if (instance_counts)
+      for (const auto& [obj_id, dets] : by_class)
+        if (const auto it = instance_counts->find({key, obj_id}); it != instance_counts->end())
+          instances_of_class.emplace(obj_id, it->second);
+    MCPOSE_ASSIGN_OR_RETURN(ImageEstimate image, EstimateFrame(estimator, dataset, frame, by_class, mesh_of, on_object,
+                                                               &instances_of_class));
     if (image_done) MCPOSE_RETURN_IF_ERROR(image_done(key, image.rows));
     report.results.insert(report.results.end(), image.rows.begin(), image.rows.end());
     for (ObjectRecord& r : image.objects) report.objects.push_back(std::move(r));

@@ -18,15 +18,16 @@ namespace mcpose {
 struct ObjectRecord {
   FrameKey key;
   int obj_id = 0;
+  int instance = 0;      // 0: the filter over all the class's boxes; k > 0: the k-th further object
   std::string name;
-  int num_boxes = 0;
+  int num_boxes = 0;     // the boxes its filter sampled
   Detection chosen_box;  // the box of the best sample
   ObjectEstimate estimate;
   double time_s = 0;     // wall time of this object
 };
 
 struct RunReport {
-  std::vector<PoseResult> results;    // BOP rows, sorted by (scene, image, obj)
+  std::vector<PoseResult> results;    // BOP rows, sorted by (scene, image, obj), then instance
   std::vector<ObjectRecord> objects;  // the same order
 };
 
@@ -37,30 +38,34 @@ using ImageDoneFn = std::function<Status(const FrameKey&, const std::vector<Pose
 // True for an image not to estimate (one an earlier run finished).
 using SkipImageFn = std::function<bool(const FrameKey&)>;
 
-// One image's estimates: a record and a BOP row per class, sorted by obj_id; each row's time is
-// the whole image's.
+// One image's estimates: a record and a BOP row per instance, sorted by obj_id, then instance;
+// each row's time is the whole image's.
 struct ImageEstimate {
   std::vector<ObjectRecord> objects;
   std::vector<PoseResult> rows;
 };
 
 // Estimates each class of one image from its boxes (`boxes` by obj_id, every class with a mesh
-// in `meshes`). `colour` may be null; it is used only when the options allow colour and some
-// class's mesh has it. `name_of` names a class for its record (may be null); `on_object` is
-// called after each class (may be null).
+// in `meshes`): its first instance from all its boxes, then up to options().max_instances in
+// all, as engine/instances.h says; `instances_of_class` (obj_id -> count, may be null) overrides
+// that limit for the classes it names (BOP's inst_count). `colour` may be null; it is used only
+// when the options allow colour and some class's mesh has it. `name_of` names a class for its
+// record (may be null); `on_object` is called after each instance (may be null).
 StatusOr<ImageEstimate> EstimateImage(Estimator& estimator, const FrameKey& key, const Intrinsics& K,
                                       const DepthImage& depth, const ColourImage* colour,
                                       const std::map<int, std::vector<Detection>>& boxes,
                                       const std::map<int, const Mesh*>& meshes,
                                       const std::function<std::string(int)>& name_of,
-                                      const std::function<void(const ObjectRecord&)>& on_object);
+                                      const std::function<void(const ObjectRecord&)>& on_object,
+                                      const std::map<int, int>* instances_of_class = nullptr);
 
 // EstimateImage on a frame of `dataset`, its colour image read only when it is used: one
 // image's step of RunEstimation. Classes are named by the dataset.
 StatusOr<ImageEstimate> EstimateFrame(Estimator& estimator, const Dataset& dataset, const Frame& frame,
                                       const std::map<int, std::vector<Detection>>& boxes,
                                       const std::map<int, const Mesh*>& meshes,
-                                      const std::function<void(const ObjectRecord&)>& on_object);
+                                      const std::function<void(const ObjectRecord&)>& on_object,
+                                      const std::map<int, int>* instances_of_class = nullptr);
 
 // Whether EstimateImage would use a colour image for these classes: read it only then.
 bool ImageWantsColour(const EstimatorOptions& options, const std::map<int, std::vector<Detection>>& boxes,
@@ -86,17 +91,21 @@ Status CheckDetectionsAgainstDataset(const Dataset& dataset, const std::vector<D
 Status CheckBoxesOfImage(const FrameKey& key, const std::map<int, std::vector<Detection>>& by_class,
                          const Intrinsics& K, const std::string& detections_source);
 
+// Instances of a class an image holds, by (image, obj_id): BOP's inst_count.
+using InstanceCounts = std::map<std::pair<FrameKey, int>, int>;
+
 // Checks every detection first (GroupDetections), loads the meshes, then estimates each (image, class) group, images in (scene_id, image_id) order,
 // leaving out those `skip` names. Nothing is written here; `image_done` may write each image.
 StatusOr<RunReport> RunEstimation(const Dataset& dataset, const std::vector<Detection>& detections,
                                   const std::string& detections_source,
                                   const EstimatorOptions& options, const ProgressFn& progress,
-                                  const ImageDoneFn& image_done = nullptr, const SkipImageFn& skip = nullptr);
+                                  const ImageDoneFn& image_done = nullptr, const SkipImageFn& skip = nullptr,
+                                  const InstanceCounts* instance_counts = nullptr);
 // The same with an estimator made earlier (its options are the run's).
 StatusOr<RunReport> RunEstimation(Estimator& estimator, const Dataset& dataset,
                                   const std::vector<Detection>& detections, const std::string& detections_source,
                                   const ProgressFn& progress, const ImageDoneFn& image_done = nullptr,
-                                  const SkipImageFn& skip = nullptr);
+                                  const SkipImageFn& skip = nullptr, const InstanceCounts* instance_counts = nullptr);
 
 // The stream id of one (image, class) group: results depend on (seed, this) only.
 uint64_t GroupStreamId(int scene_id, int image_id, int obj_id);

@@ -62,12 +62,13 @@ double FiniteOrInfinity(double e) { return std::isfinite(e) ? e : INFINITY; }
 }  // namespace
 
 // Notes on the protocol as implemented:
-//  * Results are matched per (scene_id, im_id, obj_id), as in the YCB-Video protocol, where an
-//    object appears at most once per image; should a frame hold two instances of one object,
-//    both are scored against the same best row.
-//  * Among rows with the same key the highest score wins; on a tie, the first row.
+//  * Results are matched per (scene_id, im_id, obj_id), as in the YCB-Video protocol. Where a
+//    frame holds one instance of an object, the row of the highest score is its result (on a
+//    tie, the first row). Where it holds several, the rows in order of score each take the
+//    instance still without a row that is nearest to it by ADD-S, as BOP matches estimates to
+//    ground truth; an instance left over has no result.
 //  * Frames named by `detections` but absent from the dataset are ignored.
-//  * Rows that match no target are counted (unmatched_rows), not scored.
+//  * Rows whose (image, class) has no target are counted (unmatched_rows), not scored.
 //  * A non-finite error (a result with a NaN pose) is stored as +infinity: a failure.
 StatusOr<EvalReport> Evaluate(const Dataset& dataset, const std::vector<PoseResult>& results,
                               const std::vector<Detection>* detections,
@@ -77,12 +78,11 @@ StatusOr<EvalReport> Evaluate(const Dataset& dataset, const std::vector<PoseResu
                            std::to_string(options.auc_max_m));
   }
 
-  // Best result row per (scene_id, im_id, obj_id).
-  std::map<ResultKey, const PoseResult*> best;
-  for (const PoseResult& r : results) {
-    auto [it, inserted] = best.try_emplace(ResultKey{r.scene_id, r.im_id, r.obj_id}, &r);
-    if (!inserted && r.score > it->second->score) it->second = &r;
-  }
+  // The rows of each (scene_id, im_id, obj_id), highest score first (ties: file order).
+  std::map<ResultKey, std::vector<const PoseResult*>> rows_of;
+  for (const PoseResult& r : results) rows_of[ResultKey{r.scene_id, r.im_id, r.obj_id}].push_back(&r);
+  for (auto& [key, rows] : rows_of)
+    std::stable_sort(rows.begin(), rows.end(), [](const PoseResult* a, const PoseResult* b) { return a->score > b->score; });
 
   // Frames to evaluate: all, or those with a detection.
   std::vector<FrameKey> frames = dataset.Frames();
@@ -96,40 +96,67 @@ StatusOr<EvalReport> Evaluate(const Dataset& dataset, const std::vector<PoseResu
   EvalReport report;
   std::set<ResultKey> matched;  // keys of the rows that met a target
   std::map<int, std::vector<Eigen::Vector3f>> eval_points;  // per obj_id, loaded once
+  const auto points_of = [&](int obj_id) -> StatusOr<const std::vector<Eigen::Vector3f>*> {
+    auto points = eval_points.find(obj_id);
+    if (points == eval_points.end()) {
+      MCPOSE_ASSIGN_OR_RETURN(std::vector<Eigen::Vector3f> loaded, dataset.LoadEvalPoints(obj_id));
+      if (loaded.empty())
+        return InvalidArgument("no evaluation points for obj_id " + std::to_string(obj_id) + " (" +
+                               dataset.ObjectName(obj_id) + ") in " + dataset.root());
+      points = eval_points.emplace(obj_id, std::move(loaded)).first;
+    }
+    return &points->second;
+  };
   for (const FrameKey& key : frames) {
     MCPOSE_ASSIGN_OR_RETURN(const Frame frame, dataset.LoadFrame(key));
+    // Targets: instances with at least one visible pixel.
+    std::vector<std::pair<const GtInstance*, int>> targets;  // with their visible pixels
+    std::map<int, std::vector<size_t>> targets_of_class;     // indices into targets
     for (const GtInstance& gt : frame.gt) {
-      // Targets: instances with at least one visible pixel.
       MCPOSE_ASSIGN_OR_RETURN(const MaskImage mask, dataset.LoadVisibleMask(key, gt));
       const int visible = CountNonZero(mask);
       if (visible == 0) continue;
-
+      targets_of_class[gt.obj_id].push_back(targets.size());
+      targets.emplace_back(&gt, visible);
+    }
+    // Each target's row: the best row alone, or the rows in score order matched greedily.
+    std::vector<const PoseResult*> row_of(targets.size(), nullptr);
+    for (const auto& [obj_id, indices] : targets_of_class) {
+      const auto rows = rows_of.find(ResultKey{key.scene_id, key.image_id, obj_id});
+      if (rows == rows_of.end()) continue;
+      matched.insert(rows->first);
+      if (indices.size() == 1) {
+        row_of[indices.front()] = rows->second.front();
+        continue;
+      }
+      MCPOSE_ASSIGN_OR_RETURN(const std::vector<Eigen::Vector3f>* points, points_of(obj_id));
+      for (const PoseResult* row : rows->second) {
+        size_t nearest = targets.size();
+        double nearest_m = INFINITY;
+        for (size_t t : indices) {
+          if (row_of[t]) continue;
+          const double e = FiniteOrInfinity(AddS(*points, row->T_cam_obj, targets[t].first->T_cam_obj));
+          if (nearest == targets.size() || e < nearest_m) nearest = t, nearest_m = e;
+        }
+        if (nearest == targets.size()) break;  // every instance has its row
+        row_of[nearest] = row;
+      }
+    }
+    for (size_t t = 0; t < targets.size(); ++t) {
+      const GtInstance& gt = *targets[t].first;
       InstanceEval e;
       e.key = key;
       e.obj_id = gt.obj_id;
       e.gt_index = gt.gt_index;
-      e.visible_pixels = visible;
-
-      const auto row = best.find(ResultKey{key.scene_id, key.image_id, gt.obj_id});
-      if (row != best.end()) matched.insert(row->first);
-      if (row == best.end()) {
+      e.visible_pixels = targets[t].second;
+      if (!row_of[t]) {
         e.add_m = e.adds_m = e.add_or_adds_m = INFINITY;
       } else {
-        auto points = eval_points.find(gt.obj_id);
-        if (points == eval_points.end()) {
-          MCPOSE_ASSIGN_OR_RETURN(std::vector<Eigen::Vector3f> loaded,
-                                  dataset.LoadEvalPoints(gt.obj_id));
-          if (loaded.empty()) {
-            return InvalidArgument("no evaluation points for obj_id " +
-                                   std::to_string(gt.obj_id) + " (" +
-                                   dataset.ObjectName(gt.obj_id) + ") in " + dataset.root());
-          }
-          points = eval_points.emplace(gt.obj_id, std::move(loaded)).first;
-        }
-        const SE3& T_est = row->second->T_cam_obj;
+        MCPOSE_ASSIGN_OR_RETURN(const std::vector<Eigen::Vector3f>* points, points_of(gt.obj_id));
+        const SE3& T_est = row_of[t]->T_cam_obj;
         e.has_result = true;
-        e.add_m = FiniteOrInfinity(Add(points->second, T_est, gt.T_cam_obj));
-        e.adds_m = FiniteOrInfinity(AddS(points->second, T_est, gt.T_cam_obj));
+        e.add_m = FiniteOrInfinity(Add(*points, T_est, gt.T_cam_obj));
+        e.adds_m = FiniteOrInfinity(AddS(*points, T_est, gt.T_cam_obj));
         e.add_or_adds_m = options.symmetric_obj_ids.contains(gt.obj_id) ? e.adds_m : e.add_m;
         const Eigen::Vector3d w = LogSO3(gt.T_cam_obj.R.transpose() * T_est.R);
         e.rotation_error_deg = w.norm() * 180 / M_PI;

@@ -321,5 +321,37 @@ TEST(EvalYcbv, InvisibleMugIsNotATarget) {
   EXPECT_EQ(report->overall.instances, 3);
 }
 
+// Several instances of one class in a frame: the rows in order of score each take the nearest
+// instance still without one; an instance left over has no result.
+TEST(EvalInstances, RowsTakeTheNearestInstanceInScoreOrder) {
+  FakeDataset ds(32, 24);
+  std::vector<Eigen::Vector3f> points;
+  for (int i = 0; i < 8; ++i) points.emplace_back(0.01f * (i % 2), 0.02f * (i / 2 % 2), 0.03f * (i / 4));
+  ds.SetEvalPoints(kBox, points);
+  const FrameKey key{3, 4};
+  const SE3 a = Pose(0, {0, 0, 1}), b = Pose(0, {0.2, 0, 1}), c = Pose(0, {0.4, 0, 1});
+  ds.AddInstance(key, kBox, a, RectMask(32, 24, 0, 0, 4, 4));
+  ds.AddInstance(key, kBox, b, RectMask(32, 24, 10, 0, 14, 4));
+  ds.AddInstance(key, kBox, c, RectMask(32, 24, 20, 0, 24, 4));
+  const auto shifted = [](const SE3& T, double dx) { return SE3(T.R, T.t + Eigen::Vector3d(dx, 0, 0)); };
+  // Rows near b (the best), near a, and a second one near b: c is left without a row.
+  const std::vector<PoseResult> rows = {Row(key, kBox, 0.5, shifted(a, 0.003)), Row(key, kBox, 0.9, shifted(b, 0.001)),
+                                        Row(key, kBox, 0.4, shifted(b, 0.005))};
+  auto report = Evaluate(ds, rows, nullptr, EvalOptions());
+  ASSERT_TRUE(report.ok()) << report.status().ToString();
+  ASSERT_EQ(report->instances.size(), 3u);
+  EXPECT_NEAR(report->instances[0].add_m, 0.003, 1e-9);
+  EXPECT_NEAR(report->instances[1].add_m, 0.001, 1e-9);
+  EXPECT_TRUE(report->instances[2].has_result);  // the last row goes to the one left: c
+  EXPECT_NEAR(report->instances[2].add_m, 0.195, 1e-9);
+  // Two rows for three instances: the third has none.
+  auto two = Evaluate(ds, {rows[0], rows[1]}, nullptr, EvalOptions());
+  ASSERT_TRUE(two.ok());
+  EXPECT_TRUE(two->instances[0].has_result);
+  EXPECT_TRUE(two->instances[1].has_result);
+  EXPECT_FALSE(two->instances[2].has_result);
+  EXPECT_EQ(two->overall.with_result, 2);
+}
+
 }  // namespace
 }  // namespace mcpose

@@ -11,6 +11,7 @@ nlohmann::json OptionsToJson(const EstimatorOptions& o) {
       {"max_iterations", o.max_iterations},
       {"tau", o.tau},
       {"seed", o.seed},
+      {"max_instances", o.max_instances},
       {"init",
        {{"front_share", o.init.front_share},
         {"front_quantile", o.init.front_quantile},

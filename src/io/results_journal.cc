@@ -121,7 +121,7 @@ std::string RunFingerprint(const EstimatorOptions& options, const std::vector<De
   };
   // Each field ends with a byte no path holds, so that no two sources hash the same text.
   for (const std::string& field : {std::string(Version()), absolute(source.dataset_root), source.split,
-                                   absolute(source.models_dir)})
+                                   absolute(source.models_dir), source.instance_counts})
     h = Fnv1a(std::string_view(field.c_str(), field.size() + 1), h);
   for (const Detection& d : detections) {
     char text[256];
@@ -176,15 +176,15 @@ StatusOr<std::unique_ptr<ResultsJournal>> ResultsJournal::Open(const std::string
 }
 
 Status ResultsJournal::CheckKeptAgainst(const std::vector<Detection>& detections) const {
-  std::map<FrameKey, std::set<int>> detected;
-  for (const Detection& d : detections) detected[FrameKey{d.scene_id, d.image_id}].insert(d.obj_id);
+  std::map<FrameKey, std::map<int, int>> detected;  // boxes of each class in each image
+  for (const Detection& d : detections) ++detected[FrameKey{d.scene_id, d.image_id}][d.obj_id];
   const std::string path = JournalPath(out_);
   for (const auto& [key, rows] : images_) {
     const std::string block = path + ": the rows of scene_id " + std::to_string(key.scene_id) + ", im_id " +
                               std::to_string(key.image_id);
     const auto image = detected.find(key);
     if (image == detected.end()) return InvalidArgument(block + ": no detection names this image");
-    std::set<int> seen;
+    std::map<int, int> seen;
     for (const PoseResult& r : rows) {
       if (r.scene_id != key.scene_id || r.im_id != key.image_id)
         return InvalidArgument(block + ": a row of scene_id " + std::to_string(r.scene_id) + ", im_id " +
@@ -192,8 +192,9 @@ Status ResultsJournal::CheckKeptAgainst(const std::vector<Detection>& detections
       if (!image->second.contains(r.obj_id))
         return InvalidArgument(block + ": a row of obj_id " + std::to_string(r.obj_id) +
                                ", which no detection of this image names");
-      if (!seen.insert(r.obj_id).second)
-        return InvalidArgument(block + ": two rows of obj_id " + std::to_string(r.obj_id));
+      if (++seen[r.obj_id] > image->second.at(r.obj_id))  // an instance per box at most
+        return InvalidArgument(block + ": more rows of obj_id " + std::to_string(r.obj_id) + " than its " +
+                               std::to_string(image->second.at(r.obj_id)) + " box(es) in this image");
     }
   }
   return Status::Ok();

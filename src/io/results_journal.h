@@ -29,12 +29,13 @@ namespace mcpose::io {
 // use (Dataset::models_dir()).
 struct RunSource {
   std::string dataset_root, split, models_dir;
+  std::string instance_counts;  // the inst_count of each target ("scene im obj n" lines), or empty
 };
 
 // What decides a run's rows: the options except the thread count (which changes no result;
 // the SIMD target is not an option), the detections, the dataset, split and models folder (as
-// absolute paths, so that the same folder named two ways is one) and the library's version. A
-// journal is resumed only under the same fingerprint.
+// absolute paths, so that the same folder named two ways is one), the instance counts
+// and the library's version. A journal is resumed only under the same fingerprint.
 std::string RunFingerprint(const EstimatorOptions& options, const std::vector<Detection>& detections,
                            const RunSource& source);
 
@@ -57,7 +58,8 @@ class ResultsJournal {
   bool Has(const FrameKey& key) const { return images_.count(key) > 0; }
   int kept_images() const { return kept_images_; }
   // Every kept image is one the detections name, and each of its rows is of a class they name
-  // in that image, at most once: a journal edited by hand, or one of another detections file
+  // in that image, with no more rows than the class has boxes there (an instance per box at
+  // most): a journal edited by hand, or one of another detections file
   // under the same fingerprint, is refused with one line naming the journal.
   Status CheckKeptAgainst(const std::vector<Detection>& detections) const;
 

@@ -100,7 +100,15 @@ TEST(ResultsJournalTest, KeptRowsMustBelongToTheDetections) {
   EXPECT_EQ(journal_of({{{49, 2}, Rows(49, 2, {3, 6})}}).message(),
             path + ": the rows of scene_id 49, im_id 2: a row of obj_id 6, which no detection of this image names");
   EXPECT_EQ(journal_of({{{49, 1}, Rows(49, 1, {3, 3})}}).message(),
-            path + ": the rows of scene_id 49, im_id 1: two rows of obj_id 3");
+            path + ": the rows of scene_id 49, im_id 1: more rows of obj_id 3 than its 1 box(es) in this image");
+  // Two boxes of a class, two instances: two rows.
+  std::vector<Detection> two = dets;
+  two.push_back({49, 1, 3, 0.5, 50, 50, 10, 10});
+  {
+    auto j = ResultsJournal::Open(out, "abc", true);
+    ASSERT_TRUE(j.ok());
+    EXPECT_TRUE((*j)->CheckKeptAgainst(two).ok());
+  }
 }
 
 TEST(ResultsJournalTest, TornTailAfterTheLastImageIsDroppedButNotABadLineBeforeOne) {

@@ -125,6 +125,7 @@ bool SceneOptions::IsValid(std::string* error) const {
   if (!camera.IsValid(&k)) return fail("camera: " + k);
   if (min_objects < 1 || max_objects < min_objects || max_objects > 32)
     return fail("need 1 <= min_objects <= max_objects <= 32");
+  if (copies < 1 || copies > 8) return fail("copies must lie in [1, 8], got " + std::to_string(copies));
   if (!(min_distance_m >= 0.2 && max_distance_m > min_distance_m && max_distance_m <= 5))
     return fail("need 0.2 <= min_distance_m < max_distance_m <= 5");
   if (!(side_share >= 0 && side_share <= 1)) return fail("side_share must lie in [0, 1]");
@@ -206,38 +207,79 @@ StatusOr<SynthFrame> SceneMaker::MakeFrame(int index) {
   const int wanted = o.min_objects + static_cast<int>(rng.NextU64() % static_cast<uint64_t>(o.max_objects - o.min_objects + 1));
   std::vector<Placed> placed;
   std::vector<std::pair<Eigen::Vector2d, double>> footprints;  // centre on the table, radius
-  for (size_t k = 0; k < order.size() && static_cast<int>(placed.size()) < wanted; ++k) {
-    const Model& m = models[order[k]];
+  // A turned rest pose of model m and the radius of its footprint about its centre of mass.
+  const auto draw_turn = [&](const Model& m, double* radius) {
     size_t rest = 0;
     if (m.rests.size() > 1 && rng.Uniform() < o.side_share) rest = 1 + rng.NextU64() % (m.rests.size() - 1);
     const Eigen::Matrix3d R_table_obj =
         Eigen::AngleAxisd(rng.Uniform(0, 2 * std::numbers::pi), Eigen::Vector3d::UnitZ()).toRotationMatrix() *
         m.rests[rest].R;
-    double radius = 0;
+    *radius = 0;
     for (const auto& v : m.mesh->vertices_m) {
       const Eigen::Vector3d p = R_table_obj * (v.cast<double>() - m.com);
-      radius = std::max(radius, p.head<2>().norm());
+      *radius = std::max(*radius, p.head<2>().norm());
     }
-    for (int attempt = 0; attempt < 40; ++attempt) {
+    return std::pair{rest, R_table_obj};
+  };
+  // Whether a footprint centred at `foot` (on the table plane) lies on the table, within the
+  // distance range and clear of the footprints placed.
+  const auto fits = [&](const Model& m, size_t rest, const Eigen::Vector3d& foot, double radius) {
+    if (std::fabs(foot.x() - target.x()) > table_x - radius || std::fabs(foot.y() - target.y()) > table_y - radius)
+      return false;
+    const Eigen::Vector3d centre(foot.x(), foot.y(), m.rests[rest].height);
+    const double distance = (centre - eye).norm();
+    if (distance < o.min_distance_m || distance > o.max_distance_m) return false;
+    for (const auto& [c, r] : footprints)
+      if ((c - centre.head<2>()).norm() < 0.85 * (r + radius)) return false;
+    return true;
+  };
+  const auto place = [&](size_t model, size_t rest, const Eigen::Matrix3d& R_table_obj, const Eigen::Vector3d& foot,
+                         double radius) {
+    const Model& m = models[model];
+    const Eigen::Vector3d centre(foot.x(), foot.y(), m.rests[rest].height);
+    footprints.emplace_back(centre.head<2>(), radius);
+    const SE3 T_world_obj(R_table_obj, centre - R_table_obj * m.com);
+    const Rgba8 plain{static_cast<uint8_t>(rng.Uniform(40, 230)), static_cast<uint8_t>(rng.Uniform(40, 230)),
+                      static_cast<uint8_t>(rng.Uniform(40, 230)), 255};
+    placed.push_back(Placed{model, T_cam_world * T_world_obj, plain});
+  };
+  for (size_t k = 0; k < order.size() && static_cast<int>(placed.size()) < wanted; ++k) {
+    const Model& m = models[order[k]];
+    double radius = 0;
+    const auto [rest, R_table_obj] = draw_turn(m, &radius);
+    for (int attempt = 0; attempt < (k == 0 && o.copies > 1 ? 400 : 40); ++attempt) {
       // A point of the table the camera sees, away from the image's borders.
       const double u = rng.Uniform(0.12, 0.88) * w, v = rng.Uniform(0.2, 0.88) * h;
       const Eigen::Vector3d ray = T_world_cam.R * Eigen::Vector3d((u - K.cx) / K.fx, (v - K.cy) / K.fy, 1);
       if (ray.z() >= -1e-6) continue;
       const Eigen::Vector3d foot = eye - eye.z() / ray.z() * ray;
-      if (std::fabs(foot.x() - target.x()) > table_x - radius || std::fabs(foot.y() - target.y()) > table_y - radius)
-        continue;
-      const Eigen::Vector3d centre(foot.x(), foot.y(), m.rests[rest].height);
-      const double distance = (centre - eye).norm();
-      if (distance < o.min_distance_m || distance > o.max_distance_m) continue;
-      bool clear = true;
-      for (const auto& [c, r] : footprints) clear &= (c - centre.head<2>()).norm() >= 0.85 * (r + radius);
-      if (!clear) continue;
-      footprints.emplace_back(centre.head<2>(), radius);
-      const SE3 T_world_obj(R_table_obj, centre - R_table_obj * m.com);
-      const Rgba8 plain{static_cast<uint8_t>(rng.Uniform(40, 230)), static_cast<uint8_t>(rng.Uniform(40, 230)),
-                        static_cast<uint8_t>(rng.Uniform(40, 230)), 255};
-      placed.push_back(Placed{order[k], T_cam_world * T_world_obj, plain});
-      break;
+      if (!fits(m, rest, foot, radius)) continue;
+      place(order[k], rest, R_table_obj, foot, radius);
+      // The first object's copies: each beside the one before it, their footprints' circles
+      // touching or up to 10 % of their radii apart (objects as round as cans touch). Where one
+      // does not fit, the group starts again elsewhere.
+      bool all_fit = true;
+      for (int copy = 1; k == 0 && copy < o.copies && all_fit; ++copy) {
+        double copy_radius = 0;
+        const auto [copy_rest, R_copy] = draw_turn(m, &copy_radius);
+        const auto [last_centre, last_radius] = footprints.back();
+        all_fit = false;
+        for (int copy_attempt = 0; copy_attempt < 40 && !all_fit; ++copy_attempt) {
+          const double angle = rng.Uniform(0, 2 * std::numbers::pi);
+          const double gap = (last_radius + copy_radius) * rng.Uniform(1.0, 1.1);
+          const Eigen::Vector3d copy_foot(last_centre.x() + gap * std::cos(angle),
+                                          last_centre.y() + gap * std::sin(angle), 0);
+          const Eigen::Vector3d seen = T_cam_world * Eigen::Vector3d(copy_foot.x(), copy_foot.y(), 0);
+          if (seen.z() <= 0) continue;
+          const double u = K.fx * seen.x() / seen.z() + K.cx, v = K.fy * seen.y() / seen.z() + K.cy;
+          if (u < 0.05 * w || u > 0.95 * w || v < 0.1 * h || v > 0.95 * h) continue;  // in view
+          if (!fits(m, copy_rest, copy_foot, copy_radius)) continue;
+          place(order[k], copy_rest, R_copy, copy_foot, copy_radius);
+          all_fit = true;
+        }
+      }
+      if (all_fit) break;
+      placed.clear(), footprints.clear();
     }
   }
   if (placed.empty()) return Internal("no object could be placed in frame " + std::to_string(index));

@@ -31,7 +31,10 @@
 namespace mcpose::synth {
 
 struct SceneOptions {
-  int min_objects = 3, max_objects = 7;
+  int min_objects = 3, max_objects = 7;  // copies included
+  // The first object drawn in a frame appears this many times (1 to 8), each copy beside the one
+  // before it in its own rest pose and turn: several instances of one class, some touching.
+  int copies = 1;
   double min_distance_m = 0.5, max_distance_m = 1.3;  // camera to each object's centre of mass
   double side_share = 0.3;     // objects resting on another stable face than their lowest
   double min_visible = 0.1;    // objects hidden more than this are taken out of the frame

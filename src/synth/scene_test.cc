@@ -168,6 +168,37 @@ TEST(SceneMaker, FramesAreTheSameForASeedAndShowTheirObjects) {
   EXPECT_NE((*c)->MakeFrame(2)->depth, f->depth);
 }
 
+// --copies: the first object of a frame appears that many times, each copy beside the one
+// before it (the footprints' circles at most 10 % apart).
+TEST(SceneMaker, CopiesOfOneObjectStandSideBySide) {
+  const Models m;
+  SceneOptions o;
+  o.min_objects = o.max_objects = 3;
+  o.copies = 3;
+  o.min_visible = 0;
+  auto maker = SceneMaker::Create(m.objects(), o, 11);
+  ASSERT_TRUE(maker.ok()) << maker.status().ToString();
+  for (int frame = 0; frame < 4; ++frame) {
+    auto f = (*maker)->MakeFrame(frame);
+    ASSERT_TRUE(f.ok()) << f.status().ToString();
+    ASSERT_EQ(f->instances.size(), 3u) << "frame " << frame;
+    const Mesh& mesh = f->instances[0].obj_id == 1 ? m.box : m.can;
+    double radius = 0;  // the mesh's largest distance from its centre bounds each footprint's
+    for (const auto& v : mesh.vertices_m) radius = std::max(radius, v.cast<double>().norm());
+    for (size_t i = 0; i < 3; ++i) {
+      EXPECT_EQ(f->instances[i].obj_id, f->instances[0].obj_id);
+      if (i > 0) {
+        const SE3& a = f->instances[i - 1].T_cam_obj;
+        const SE3& b = f->instances[i].T_cam_obj;
+        EXPECT_LT((a.t - b.t).norm(), 2.5 * radius + 0.01) << "frame " << frame << " copy " << i;
+        EXPECT_GT((a.t - b.t).norm(), 0.01);
+      }
+    }
+  }
+  o.copies = 9;
+  EXPECT_FALSE(SceneMaker::Create(m.objects(), o, 1).ok());
+}
+
 TEST(SceneMaker, RefusesBadOptions) {
   const Models m;
   SceneOptions o;
