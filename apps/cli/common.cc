@@ -53,6 +53,10 @@ void AddEstimatorFlags(CLI::App* cmd, unsigned groups, EstimatorFlags* f) {
                     "--init-front-quantile of the box's valid depths; the rest start with the model's origin at "
                     "--init-depth-quantile plus half its median side; [0, 1]")
         ->capture_default_str();
+    cmd->add_option("--init-rest-share", o.init.rest_share,
+                    "Share of each box's samples that start at rest on the plane the box stands on (a stable face "
+                    "of the model down, turned at random about the plane's normal); [0, 1]")
+        ->capture_default_str();
     cmd->add_option("--init-front-quantile", o.init.front_quantile,
                     "Quantile of the box's valid depths where a front sample's nearest point starts")
         ->capture_default_str();

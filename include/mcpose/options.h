@@ -65,6 +65,13 @@ struct InitOptions {
   double front_quantile = 0.1;  // [0, 1]
   double depth_quantile = 0.5;  // [0, 1]
   double sigma_t_m = 0.01;      // >= 0, metres
+  // The share of each box's samples that start at rest on the plane that supports the box (the
+  // largest plane in the depth around it): the model on one of its stable rest faces (drawn by
+  // face area), turned at random about the plane's normal, its centre of mass above the plane
+  // on the ray through the box centre. Objects lie on tables; a turn drawn over the whole sphere
+  // seldom lands near a thin or flat object's. [0, 1]; 0: none. Without a plane the sample
+  // starts as the others.
+  double rest_share = 0.0;
 };
 
 // Step 3: w = a * N / N_b + b * N / N_r + c * score, a + b + c = 1, with N the depth inliers,

@@ -99,6 +99,8 @@ StatusOr<std::unique_ptr<BoxScorer>> BoxScorer::Create(Context& context, const I
     s.levels_.push_back(level);
     s.targets_.push_back(target);
   }
+  s.depth_ = &depth;
+  if (resolution == Resolution::kEngine) s.rests_ = context.Rests(mesh);
   s.extremes_ = context.Extremes(mesh);
   if (s.extremes_)
     for (const Detection& d : boxes) s.fit_boxes_.push_back(score::FitBoxOf(d, K));

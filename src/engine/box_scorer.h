@@ -55,6 +55,9 @@ class BoxScorer {
 
   const Intrinsics& K() const { return K_; }
   const Mesh& mesh() const { return *mesh_; }
+  const DepthImage& depth() const { return *depth_; }
+  // The mesh's rest poses for the initialization (Context::Rests), or null.
+  const MeshRests* rests() const { return rests_.get(); }
   int obj_id() const { return detections_.front().obj_id; }
   int num_boxes() const { return static_cast<int>(detections_.size()); }
   const Detection& detection(int b) const { return detections_[static_cast<size_t>(b)]; }
@@ -86,6 +89,7 @@ class BoxScorer {
   Context* context_;
   Intrinsics K_;
   const Mesh* mesh_ = nullptr;
+  const DepthImage* depth_ = nullptr;
   std::vector<Detection> detections_;
   std::vector<score::BoxObservation> observed_;
   std::shared_ptr<const render::LodChain> lod_;
@@ -97,6 +101,7 @@ class BoxScorer {
   std::vector<score::InlierCounts> counts_;  // Weigh's
   std::shared_ptr<const std::vector<Eigen::Vector3d>> extremes_;  // the box fit's (Context::Extremes)
   std::vector<score::FitBox> fit_boxes_;     // each box, for the box fit
+  std::shared_ptr<const MeshRests> rests_;   // Context::Rests
 };
 
 }  // namespace mcpose::engine

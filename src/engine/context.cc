@@ -53,6 +53,23 @@ std::shared_ptr<const std::vector<Eigen::Vector3d>> Context::Extremes(const Mesh
   });
 }
 
+std::shared_ptr<const MeshRests> Context::Rests(const Mesh& mesh) {
+  if (!(options_.init.rest_share > 0)) return nullptr;
+  return Cached(caches_->mutex, caches_->rests, render::MeshFingerprint(mesh), [&]() -> std::shared_ptr<const MeshRests> {
+    StatusOr<std::vector<RestPose>> rests = StableRestPoses(mesh);
+    if (!rests.ok() || rests->empty()) return nullptr;
+    auto out = std::make_shared<MeshRests>();
+    out->rests = std::move(*rests);
+    out->centre_of_mass = CentreOfMass(mesh);
+    double total = 0;
+    for (const RestPose& r : out->rests) total += r.face_area;
+    double sum = 0;
+    for (const RestPose& r : out->rests) out->area_cdf.push_back(total > 0 ? (sum += r.face_area) / total : 1.0);
+    out->area_cdf.back() = 1.0;
+    return out;
+  });
+}
+
 void Context::PrepareMeshes(std::span<const Mesh* const> meshes) {
   if (meshes.empty()) return;
   pool().ParallelFor(
@@ -62,6 +79,7 @@ void Context::PrepareMeshes(std::span<const Mesh* const> meshes) {
           Lod(*meshes[static_cast<size_t>(i)]);
           Colour(*meshes[static_cast<size_t>(i)]);
           Extremes(*meshes[static_cast<size_t>(i)]);
+          Rests(*meshes[static_cast<size_t>(i)]);
         }
       },
       /*chunks_per_thread=*/static_cast<int>(meshes.size()));

@@ -14,12 +14,20 @@
 #include <Eigen/Core>
 
 #include "appearance/colour_grid.h"
+#include "core/rest_pose.h"
 #include "engine/raster_cores.h"
 #include "mcpose/mesh.h"
 #include "mcpose/options.h"
 #include "render/lod.h"
 
 namespace mcpose::engine {
+
+// A mesh's stable rest poses (core/rest_pose.h) and what the initialization draws them by.
+struct MeshRests {
+  std::vector<RestPose> rests;     // lowest first
+  std::vector<double> area_cdf;    // cumulative share of the rest faces' areas, last = 1
+  Eigen::Vector3d centre_of_mass = Eigen::Vector3d::Zero();
+};
 
 class Context {
  public:
@@ -43,8 +51,12 @@ class Context {
   // The extreme points of `mesh` the box fit projects (score/box_fit.h), found on first use and
   // cached by its content; null when the options turn the box fit off. Thread-safe, as Lod.
   std::shared_ptr<const std::vector<Eigen::Vector3d>> Extremes(const Mesh& mesh);
-  // Builds the chains, colour grids and extreme points of these meshes now, one mesh per raster
-  // core.
+  // The stable rest poses of `mesh`, found on first use and cached by its content; null when
+  // the options start no sample at rest (init.rest_share 0) or the mesh has no convex hull.
+  // Thread-safe, as Lod.
+  std::shared_ptr<const MeshRests> Rests(const Mesh& mesh);
+  // Builds the chains, colour grids, extreme points and rest poses of these meshes now, one mesh
+  // per raster core.
   void PrepareMeshes(std::span<const Mesh* const> meshes);
 
  private:
@@ -55,6 +67,7 @@ class Context {
     std::map<uint64_t, std::shared_ptr<const render::LodChain>> lod;
     std::map<uint64_t, std::shared_ptr<const appearance::ColourGrid>> colour;
     std::map<uint64_t, std::shared_ptr<const std::vector<Eigen::Vector3d>>> extremes;
+    std::map<uint64_t, std::shared_ptr<const MeshRests>> rests;
   };
   std::shared_ptr<Caches> caches_ = std::make_shared<Caches>();
 };

@@ -3,18 +3,23 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numbers>
 #include <optional>
 #include <vector>
+
+#include <Eigen/Geometry>
 
 #include "core/check.h"
 #include "core/rng.h"
 #include "engine/box_scorer.h"
+#include "engine/context.h"
 
 namespace mcpose::engine {
 
 namespace {
 
 constexpr uint64_t kInitStream = 0xA11CE;
+constexpr uint64_t kPlaneStream = 0x91A4E;
 
 // The `q` quantile of the valid depths of a box, or 0 if it has none.
 double DepthQuantile(const std::vector<float>& observed, double q) {
@@ -54,7 +59,77 @@ class FrontPlacer {
   std::vector<Eigen::Vector3d> offsets_;
 };
 
+// A model at rest on `plane`: one of its rest faces drawn by area, turned at random about the
+// plane's normal, its centre of mass above the plane where `ray` (z component 1) meets that
+// height. Sets *R_cam_obj; returns the translation.
+Eigen::Vector3d PoseAtRest(const MeshRests& rests, const SupportPlane& plane, const Eigen::Vector3d& ray, Rng& rng,
+                         Eigen::Matrix3d* R_cam_obj) {
+  const double u = rng.Uniform();
+  const size_t r = std::min<size_t>(
+      static_cast<size_t>(std::upper_bound(rests.area_cdf.begin(), rests.area_cdf.end(), u) - rests.area_cdf.begin()),
+      rests.rests.size() - 1);
+  const mcpose::RestPose& rest = rests.rests[r];
+  // The table frame in the camera: z the plane's normal, x any direction in the plane.
+  const Eigen::Vector3d z_axis = plane.normal;
+  const Eigen::Vector3d helper = std::fabs(z_axis.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d x_axis = (helper - helper.dot(z_axis) * z_axis).normalized();
+  Eigen::Matrix3d R_cam_table;
+  R_cam_table.col(0) = x_axis, R_cam_table.col(1) = z_axis.cross(x_axis), R_cam_table.col(2) = z_axis;
+  const double yaw = rng.Uniform(0, 2 * std::numbers::pi);
+  *R_cam_obj = R_cam_table * Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix() * rest.R;
+  // The centre of mass at s ray, rest.height above the plane: n . (s ray) + offset = height.
+  const double along = plane.normal.dot(ray);
+  const double s = std::fabs(along) > 1e-6 ? (rest.height - plane.offset) / along : 0.0;
+  const Eigen::Vector3d com_cam = s > 0 ? Eigen::Vector3d(s * ray) : Eigen::Vector3d(ray);
+  return com_cam - *R_cam_obj * rests.centre_of_mass;
+}
+
 }  // namespace
+
+std::optional<SupportPlane> FindSupportPlane(const DepthImage& depth, const Intrinsics& K, const Detection& d,
+                                             uint64_t seed, uint64_t stream_id, int box_index) {
+  // The ring: the box grown by half its size on each side, the box itself left out; at most
+  // about 3000 points, evenly strided.
+  const render::PixelRect inner = ClipBox(d.x, d.y, d.w, d.h, depth.width, depth.height);
+  const render::PixelRect outer = ClipBox(d.x - 0.5 * d.w, d.y - 0.5 * d.h, 2 * d.w, 2 * d.h, depth.width, depth.height);
+  const int64_t area = static_cast<int64_t>(outer.x1 - outer.x0) * (outer.y1 - outer.y0);
+  const int step = std::max(1, static_cast<int>(std::sqrt(static_cast<double>(area) / 3000.0)));
+  std::vector<Eigen::Vector3d> ring, inside;
+  for (int y = outer.y0; y < outer.y1; y += step)
+    for (int x = outer.x0; x < outer.x1; x += step) {
+      const float z = depth.at(x, y);
+      if (!(z > 0.f)) continue;
+      const Eigen::Vector3d p((x - K.cx) / K.fx * z, (y - K.cy) / K.fy * z, z);
+      const bool in_box = x >= inner.x0 && x < inner.x1 && y >= inner.y0 && y < inner.y1;
+      (in_box ? inside : ring).push_back(p);
+    }
+  if (ring.size() < 50 || inside.empty()) return std::nullopt;
+  Rng rng(seed, stream_id, kPlaneStream, static_cast<uint64_t>(box_index));
+  SupportPlane best;
+  size_t best_inliers = 0;
+  for (int iteration = 0; iteration < 200; ++iteration) {
+    const Eigen::Vector3d& a = ring[rng.NextU64() % ring.size()];
+    const Eigen::Vector3d& b = ring[rng.NextU64() % ring.size()];
+    const Eigen::Vector3d& c = ring[rng.NextU64() % ring.size()];
+    Eigen::Vector3d n = (b - a).cross(c - a);
+    if (n.norm() < 1e-9) continue;
+    n.normalize();
+    if (n.dot(a) > 0) n = -n;  // towards the camera
+    const double offset = -n.dot(a);
+    size_t inliers = 0;
+    for (const Eigen::Vector3d& p : ring) inliers += std::fabs(n.dot(p) + offset) < kPlaneInlierM;
+    if (inliers > best_inliers) best_inliers = inliers, best = SupportPlane{n, offset, 0};
+  }
+  // A support plane holds a good part of the ring, and the box's points do not lie behind it (an
+  // object thinner than kPlaneInlierM may lie within it).
+  if (best_inliers < ring.size() * 3 / 10) return std::nullopt;
+  std::vector<double> heights;
+  for (const Eigen::Vector3d& p : inside) heights.push_back(best.normal.dot(p) + best.offset);
+  std::nth_element(heights.begin(), heights.begin() + heights.size() / 2, heights.end());
+  if (heights[heights.size() / 2] < -0.5 * kPlaneInlierM) return std::nullopt;
+  best.share = static_cast<double>(best_inliers) / static_cast<double>(ring.size());
+  return best;
+}
 
 double InitialDepth(const Intrinsics& K, const Mesh& mesh, const Detection& d, const score::BoxObservation& box,
                     double depth_quantile) {
@@ -85,6 +160,8 @@ void InitializeSamples(const BoxScorer& scorer, const EstimatorOptions& options,
   const double share = options.init.front_share;
   std::optional<FrontPlacer> front;
   if (share > 0) front.emplace(scorer.mesh());
+  const double rest_share = options.init.rest_share;
+  const MeshRests* rests = rest_share > 0 ? scorer.rests() : nullptr;
   filter::ParticleSet& p = *particles;
   p.Resize(n);
   int i = 0;
@@ -96,14 +173,23 @@ void InitializeSamples(const BoxScorer& scorer, const EstimatorOptions& options,
     const double z_front = front ? DepthQuantile(box.observed, options.init.front_quantile) : 0.0;
     const double uc = d.x + 0.5 * d.w, vc = d.y + 0.5 * d.h;
     const Eigen::Vector3d ray((uc - K.cx) / K.fx, (vc - K.cy) / K.fy, 1.0);
+    const std::optional<SupportPlane> plane =
+        rests ? FindSupportPlane(scorer.depth(), K, d, options.seed, stream_id, b) : std::nullopt;
     for (int k = 0; k < per_box[static_cast<size_t>(b)]; ++k, ++i) {
       Rng rng(options.seed, stream_id, kInitStream, static_cast<uint64_t>(i));
       p.box[i] = static_cast<int32_t>(b);
       p.R_cam_obj[i] = filter::UniformRotation(rng.Uniform(), rng.Uniform(), rng.Uniform());
-      // Sample k of the box starts at the front depth when (k + 1) share passes an integer:
-      // every sample at share 1, every other one at 0.5, none at 0.
+      // Sample k of the box starts at rest when (k + 1) rest_share passes an integer, and
+      // otherwise at the front depth when (k + 1) share does: every sample at share 1, every
+      // other one at 0.5, none at 0.
+      const bool at_rest = plane && std::floor((k + 1) * rest_share) > std::floor(k * rest_share);
       const bool at_front = z_front > 0 && std::floor((k + 1) * share) > std::floor(k * share);
-      const Eigen::Vector3d t = at_front ? front->Translation(p.R_cam_obj[i], ray, z_front) : Eigen::Vector3d(ray * z);
+      Eigen::Vector3d t;
+      if (at_rest) {
+        t = PoseAtRest(*rests, *plane, ray, rng, &p.R_cam_obj[i]);
+      } else {
+        t = at_front ? front->Translation(p.R_cam_obj[i], ray, z_front) : Eigen::Vector3d(ray * z);
+      }
       p.t_cam_obj_m[i] = t + options.init.sigma_t_m * Eigen::Vector3d(rng.Normal(), rng.Normal(), rng.Normal());
     }
   }

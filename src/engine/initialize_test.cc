@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 #include <vector>
 
 #include <gtest/gtest.h>
 
 #include "engine/box_scorer.h"
+#include "core/rest_pose.h"
 #include "engine/context.h"
 #include "synthetic_mesh.h"
 
@@ -126,6 +128,60 @@ TEST(InitializeSamples, FrontShareSplitsEachBoxsSamplesWithoutChangingTheirDraws
   int at_front = 0;
   for (size_t i = 0; i < quarter.size(); ++i) at_front += quarter.t_cam_obj_m[i] == front.t_cam_obj_m[i];
   EXPECT_EQ(at_front, 50);
+}
+
+// A table tilted towards the camera (normal n, n . x + offset = 0) over the whole 320 x 240
+// frame, and inside the box an object about 5 cm above it.
+Scene MakeTableScene(const Eigen::Vector3d& n, double offset) {
+  Scene s = MakeScene();
+  for (int y = 0; y < 240; ++y)
+    for (int x = 0; x < 320; ++x) {
+      const Eigen::Vector3d ray((x - s.K.cx) / s.K.fx, (y - s.K.cy) / s.K.fy, 1.0);
+      double z = -offset / n.dot(ray);
+      if (x >= 100 && x < 220 && y >= 60 && y < 160) z *= 0.92;  // 0.08 offset nearer: 4.8 cm above
+      s.depth.depth_m[static_cast<size_t>(y) * 320 + x] = static_cast<float>(z);
+    }
+  return s;
+}
+
+TEST(SupportPlane, TheTableAroundTheBoxIsFound) {
+  const Eigen::Vector3d n = Eigen::Vector3d(0, -0.8, -0.6).normalized();  // towards the camera
+  const Scene s = MakeTableScene(n, 0.6);
+  const std::optional<SupportPlane> plane = FindSupportPlane(s.depth, s.K, s.box, 0, 7, 0);
+  ASSERT_TRUE(plane.has_value());
+  EXPECT_GT(plane->normal.dot(n), 0.999);
+  EXPECT_NEAR(plane->offset, 0.6, 0.005);
+  EXPECT_GT(plane->share, 0.95);
+  // The same seed and stream, the same plane; a wall behind the box is no support.
+  const std::optional<SupportPlane> again = FindSupportPlane(s.depth, s.K, s.box, 0, 7, 0);
+  EXPECT_EQ(again->normal, plane->normal);
+  Scene behind = MakeScene(1.2f, 0.9f);  // the box's surface behind the plane around it
+  for (int y = 60; y < 160; ++y)
+    for (int x = 100; x < 220; ++x) behind.depth.depth_m[static_cast<size_t>(y) * 320 + x] = 1.2f;
+  EXPECT_FALSE(FindSupportPlane(behind.depth, behind.K, behind.box, 0, 7, 0).has_value());
+}
+
+// With rest_share 1 every sample lies on a stable face of the slab on the table: its lowest
+// vertex on the plane, its centre of mass on the ray through the box centre.
+TEST(InitializeSamples, RestSamplesLieOnTheSupportPlane) {
+  const Eigen::Vector3d n = Eigen::Vector3d(0, -0.8, -0.6).normalized();
+  const Scene s = MakeTableScene(n, 0.6);
+  EstimatorOptions o = NoJitter();
+  o.init.rest_share = 1;
+  const filter::ParticleSet p = Initialize(s, o);
+  ASSERT_EQ(p.size(), 200u);
+  const Eigen::Vector3d com = CentreOfMass(s.mesh);
+  std::set<long> heights;
+  for (size_t i = 0; i < p.size(); ++i) {
+    double lowest = INFINITY;
+    for (const auto& v : s.mesh.vertices_m) lowest = std::min(lowest, n.dot(p.R_cam_obj[i] * v.cast<double>() + p.t_cam_obj_m[i]) + 0.6);
+    EXPECT_NEAR(lowest, 0.0, 2e-3) << "sample " << i;
+    const Eigen::Vector3d c = p.R_cam_obj[i] * com + p.t_cam_obj_m[i];
+    EXPECT_LT((c / c.z() - BoxRay(s)).norm(), 1e-9);
+    heights.insert(std::lround(1000 * (n.dot(c) + 0.6)));  // the centre of mass's height, mm
+  }
+  EXPECT_GE(heights.size(), 2u);  // more than one face down
+  EXPECT_LE(*heights.rbegin(), 61);  // none higher than the slab's half length
 }
 
 }  // namespace

@@ -71,6 +71,7 @@ bool EstimatorOptions::IsValid(std::string* error) const {
   if (!(init.front_share >= 0 && init.front_share <= 1)) return Fail(error, "init.front_share must lie in [0, 1]");
   if (!(init.front_quantile >= 0 && init.front_quantile <= 1))
     return Fail(error, "init.front_quantile must lie in [0, 1]");
+  if (!(init.rest_share >= 0 && init.rest_share <= 1)) return Fail(error, "init.rest_share must lie in [0, 1]");
   if (!(finite_nonnegative(init.sigma_t_m) && init.sigma_t_m <= limits::kMaxSigmaM))
     return Fail(error, "init.sigma_t_m must lie in [0, 10] m");
 

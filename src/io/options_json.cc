@@ -16,6 +16,7 @@ nlohmann::json OptionsToJson(const EstimatorOptions& o) {
        {{"front_share", o.init.front_share},
         {"front_quantile", o.init.front_quantile},
         {"depth_quantile", o.init.depth_quantile},
+        {"rest_share", o.init.rest_share},
         {"sigma_t_m", o.init.sigma_t_m}}},
       {"weight",
        {{"inlier", w.inlier == InlierMode::k1D ? "1d" : "3d"},

@@ -12,7 +12,7 @@
 #include "render/raster.h"
 #include "render/surface_distance.h"
 #include "synth/photometric.h"
-#include "synth/rest_pose.h"
+#include "core/rest_pose.h"
 
 namespace mcpose::synth {
 

@@ -3,7 +3,7 @@
 //
 // A frame: a table (a plane, plain or wood-grained) seen from 0.7-1.1 m at an elevation of
 // 30-60 degrees, the floor beyond its edges; 3-7 objects drawn from the models, each resting on
-// a stable face of its convex hull (synth/rest_pose.h: the lowest, or with probability side_share
+// a stable face of its convex hull (core/rest_pose.h: the lowest, or with probability side_share
 // another, lying on its side), turned at random about the vertical, 0.5-1.3 m from the camera,
 // allowed to hide each other down to a visible fraction of min_visible.
 // - Depth: the rendered depth (render/raster.h) plus noise of sigma = depth_noise * z^2, a

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "synth/rest_pose.h"
+#include "core/rest_pose.h"
 #include "synthetic_mesh.h"
 
 namespace mcpose::synth {

@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
 # Several instances of one class: `mcpose synth --copies 3` makes scenes (seed S, 20 frames by
-# default; out/instances/set_S_F, made once) in which one object of the 21 appears three times
+# default; out/multi_instance/set_S_F, made once) in which one object of the 21 appears three times
 # side by side, some copies touching, with boxes from the truth (jitter 0.1, no distractors).
 # The estimator runs with default options, depth only and with the textured models
 # ($DATA/ycbv_textured/models or $MODELS); as a control, each box is also estimated alone (one
 # box an image per run, --max-instances 1, depth only). Prints per scene the copied object and
 # each instance's ADD-S, then the scenes whose three instances are all within 2 cm ADD-S.
-# Usage: scripts/accuracy_instances.sh [SEED] [FRAMES] [mcpose estimate options for every run]
+# Usage: scripts/accuracy_multi_instance.sh [SEED] [FRAMES] [mcpose estimate options for every run]
 # Needs build/mcpose (scripts/build.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -16,7 +16,7 @@ FRAMES=${2:-20}
 [ $# -gt 0 ] && shift
 DATA="${MCPOSE_DATA_DIR:-$(cd .. && pwd)/shared/data}"
 MODELS=${MODELS:-$DATA/ycbv_textured/models}
-dir=${INSTANCES_DIR:-out/instances}
+dir=${MULTI_INSTANCE_DIR:-out/multi_instance}
 set_dir="$dir/set_${SEED}_$FRAMES"
 mkdir -p "$dir"
 [ -d "$set_dir" ] || ./build/mcpose synth -q --models "$MODELS" --out "$set_dir" --frames "$FRAMES" --seed "$SEED" \

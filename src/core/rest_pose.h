@@ -11,7 +11,7 @@
 #include "mcpose/mesh.h"
 #include "mcpose/status.h"
 
-namespace mcpose::synth {
+namespace mcpose {
 
 struct RestPose {
   // Model to rest frame: the rest frame's +z is up, the plane is z = 0, and the centre of mass
@@ -30,4 +30,4 @@ Eigen::Vector3d CentreOfMass(const Mesh& mesh);
 // from its edges. An error if the hull cannot be built (fewer than four points not in a plane).
 StatusOr<std::vector<RestPose>> StableRestPoses(const Mesh& mesh, double min_margin_m = 0.0005);
 
-}  // namespace mcpose::synth
+}  // namespace mcpose

@@ -1,4 +1,4 @@
-#include "synth/rest_pose.h"
+#include "core/rest_pose.h"
 
 extern "C" {
 #include <libqhull_r/qhull_ra.h>
@@ -11,7 +11,7 @@ extern "C" {
 
 #include <Eigen/Geometry>
 
-namespace mcpose::synth {
+namespace mcpose {
 
 namespace {
 
@@ -130,4 +130,4 @@ StatusOr<std::vector<RestPose>> StableRestPoses(const Mesh& mesh, double min_mar
   return out;
 }
 
-}  // namespace mcpose::synth
+}  // namespace mcpose
