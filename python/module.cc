@@ -20,6 +20,7 @@
 #include "engine/pipeline.h"
 #include "io/options_json.h"
 #include "io/results_journal.h"
+#include "mcpose/bop19.h"
 #include "mcpose/dataset.h"
 #include "mcpose/detection.h"
 #include "mcpose/estimator.h"
@@ -697,6 +698,77 @@ PYBIND11_MODULE(_mcpose, m) {
     return out;
   });
   m.def("auc", [](const std::vector<double>& errors_m, double max_m) { return AccuracyAuc(errors_m, max_m); });
+
+  // BOP19: the symmetries of an object from a models_info.json, the MSSD and MSPD of poses, and
+  // the whole evaluation of results rows on a dataset (mcpose eval --metrics bop19).
+  m.def("bop19_symmetries", [](const std::string& models_info, int obj_id) {
+    const std::map<int, ModelInfo> info = Value(ReadModelsInfo(models_info));
+    const auto it = info.find(obj_id);
+    if (it == info.end()) throw py::value_error(models_info + ": no object " + std::to_string(obj_id));
+    const std::vector<SE3> sym = SymmetryTransformations(it->second);
+    py::array_t<double> out({static_cast<py::ssize_t>(sym.size()), py::ssize_t{4}, py::ssize_t{4}});
+    auto o = out.mutable_unchecked<3>();
+    for (size_t k = 0; k < sym.size(); ++k)
+      for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j)
+          o(k, i, j) = i == 3 ? (j == 3 ? 1.0 : 0.0) : (j == 3 ? sym[k].t(i) : sym[k].R(i, j));
+    return std::make_pair(it->second.diameter_m, out);
+  });
+  m.def("bop19_pose_errors", [](const py::array_t<float, py::array::c_style | py::array::forcecast>& points,
+                                const py::array_t<double, py::array::c_style | py::array::forcecast>& T_est,
+                                const py::array_t<double, py::array::c_style | py::array::forcecast>& T_gt,
+                                const py::array_t<double, py::array::c_style | py::array::forcecast>& symmetries,
+                                const py::array_t<double, py::array::c_style | py::array::forcecast>& K) {
+    if (points.ndim() != 2 || points.shape(1) != 3) throw py::value_error("points: expected an (N, 3) array, metres");
+    if (T_est.ndim() != 2 || T_gt.ndim() != 2 || T_est.shape(0) != 4 || T_est.shape(1) != 4 || T_gt.shape(0) != 4 ||
+        T_gt.shape(1) != 4)
+      throw py::value_error("T_est, T_gt: expected (4, 4) arrays, metres");
+    if (symmetries.ndim() != 3 || symmetries.shape(1) != 4 || symmetries.shape(2) != 4 || symmetries.shape(0) < 1)
+      throw py::value_error("symmetries: expected an (S, 4, 4) array, the identity among them");
+    if (K.ndim() != 2 || K.shape(0) != 3 || K.shape(1) != 3) throw py::value_error("K: expected a (3, 3) array");
+    const auto pose = [](const py::array_t<double, py::array::c_style | py::array::forcecast>& T, py::ssize_t k) {
+      SE3 out;
+      const bool batch = T.ndim() == 3;
+      for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) out.R(i, j) = batch ? T.at(k, i, j) : T.at(i, j);
+        out.t(i) = batch ? T.at(k, i, 3) : T.at(i, 3);
+      }
+      return out;
+    };
+    std::vector<Eigen::Vector3f> p(static_cast<size_t>(points.shape(0)));
+    for (size_t i = 0; i < p.size(); ++i) p[i] = {points.at(i, 0), points.at(i, 1), points.at(i, 2)};
+    std::vector<SE3> sym;
+    for (py::ssize_t k = 0; k < symmetries.shape(0); ++k) sym.push_back(pose(symmetries, k));
+    Intrinsics intr{K.at(0, 0), K.at(1, 1), K.at(0, 2), K.at(1, 2), 0, 0};
+    const SE3 a = pose(T_est, 0), g = pose(T_gt, 0);
+    return std::make_pair(Mssd(p, a, g, sym), Mspd(p, a, g, sym, intr));
+  });
+  m.def("evaluate_bop19", [](const PyDataset& ds, const std::vector<RowTuple>& rows, const std::string& models_info,
+                             const std::string& targets) {
+    std::vector<PoseResult> results;
+    for (const RowTuple& r : rows) results.push_back(RowFromTuple(r));
+    const std::map<int, ModelInfo> info = Value(ReadModelsInfo(models_info));
+    std::optional<std::vector<Bop19Target>> t;
+    if (!targets.empty()) t = Value(ReadBop19Targets(targets));
+    StatusOr<Bop19Report> report = Status::Ok();
+    {
+      py::gil_scoped_release release;
+      report = EvaluateBop19(*ds.ds, results, info, t ? &*t : nullptr, Bop19Options{});
+    }
+    const Bop19Report r = Value(std::move(report));
+    const auto summary = [](const Bop19Summary& s) {
+      py::dict d;
+      d["obj_id"] = s.obj_id, d["name"] = s.name, d["targets"] = s.targets;
+      d["ar"] = s.ar, d["ar_vsd"] = s.ar_vsd, d["ar_mssd"] = s.ar_mssd, d["ar_mspd"] = s.ar_mspd;
+      return d;
+    };
+    py::dict out;
+    out["overall"] = summary(r.overall);
+    py::list per_object;
+    for (const Bop19Summary& s : r.per_object) per_object.append(summary(s));
+    out["per_object"] = per_object;
+    return out;
+  });
   m.def("ycbv_symmetric_ids", [] {
     const std::set<int> s = YcbvSymmetricObjectIds();
     return std::vector<int>(s.begin(), s.end());
