@@ -48,12 +48,6 @@ Status RunMisses(MissesArgs& a) {
     if (detections.empty()) return InvalidArgument(a.detections + ": no box in scene " + std::to_string(a.scene));
   }
   MCPOSE_ASSIGN_OR_RETURN(EvalReport eval, Evaluate(*dataset, results, &detections, EvalOptions{}));
-  // The estimate of each (image, class): the highest-scored row, as the evaluation takes it.
-  std::map<std::tuple<int, int, int>, const PoseResult*> estimate;
-  for (const PoseResult& r : results) {
-    const PoseResult*& e = estimate[{r.scene_id, r.im_id, r.obj_id}];
-    if (!e || r.score > e->score) e = &r;
-  }
   engine::Context context(o);
   const refine::AlignOptions align = engine::AlignSettings(o.refine, o.refine.max_iterations);
   std::map<int, Mesh> meshes;
@@ -81,7 +75,7 @@ Status RunMisses(MissesArgs& a) {
     for (const Detection& d : detections)
       if (d.scene_id == e.key.scene_id && d.image_id == e.key.image_id && d.obj_id == e.obj_id) boxes.push_back(d);
     const SE3& T_gt = frame.gt[static_cast<size_t>(e.gt_index)].T_cam_obj;
-    const PoseResult& est = *estimate.at({e.key.scene_id, e.key.image_id, e.obj_id});
+    const PoseResult& est = results[static_cast<size_t>(e.result_index)];  // the row the evaluation scored
     MCPOSE_ASSIGN_OR_RETURN(std::vector<Eigen::Vector3f> points, dataset->LoadEvalPoints(e.obj_id));
     auto m = analysis::WeighMiss(context, frame.K, frame.depth, colour ? &*colour : nullptr, mesh, boxes,
                                  est.T_cam_obj, T_gt, align,

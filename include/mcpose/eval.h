@@ -38,6 +38,7 @@ struct InstanceEval {
   int gt_index = 0;
   int visible_pixels = 0;
   bool has_result = false;
+  int result_index = -1;  // the row of the results scored against it; -1 without one
   double add_m = 0, adds_m = 0, add_or_adds_m = 0;  // +infinity when has_result is false
   // The estimate relative to the truth, R_gt^T R_est as an angle (degrees) about an axis in the
   // model frame, and |t_est - t_gt| (mm); NaN when has_result is false.

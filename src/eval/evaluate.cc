@@ -155,6 +155,7 @@ StatusOr<EvalReport> Evaluate(const Dataset& dataset, const std::vector<PoseResu
         MCPOSE_ASSIGN_OR_RETURN(const std::vector<Eigen::Vector3f>* points, points_of(gt.obj_id));
         const SE3& T_est = row_of[t]->T_cam_obj;
         e.has_result = true;
+        e.result_index = static_cast<int>(row_of[t] - results.data());
         e.add_m = FiniteOrInfinity(Add(*points, T_est, gt.T_cam_obj));
         e.adds_m = FiniteOrInfinity(AddS(*points, T_est, gt.T_cam_obj));
         e.add_or_adds_m = options.symmetric_obj_ids.contains(gt.obj_id) ? e.adds_m : e.add_m;

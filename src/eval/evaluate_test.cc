@@ -133,6 +133,7 @@ TEST_F(EvalFakeTest, HighestScoreRowIsUsed) {
   ASSERT_NE(e, nullptr);
   EXPECT_TRUE(e->has_result);
   EXPECT_NEAR(e->add_m, 0.01, 1e-9);  // the 0.9 row, not the exact 0.4 row
+  EXPECT_EQ(e->result_index, 1);
   EXPECT_NEAR(e->add_or_adds_m, 0.01, 1e-9);
   EXPECT_LE(e->adds_m, e->add_m + 1e-12);
 }
@@ -342,6 +343,9 @@ TEST(EvalInstances, RowsTakeTheNearestInstanceInScoreOrder) {
   ASSERT_EQ(report->instances.size(), 3u);
   EXPECT_NEAR(report->instances[0].add_m, 0.003, 1e-9);
   EXPECT_NEAR(report->instances[1].add_m, 0.001, 1e-9);
+  EXPECT_EQ(report->instances[0].result_index, 0);
+  EXPECT_EQ(report->instances[1].result_index, 1);
+  EXPECT_EQ(report->instances[2].result_index, 2);
   EXPECT_TRUE(report->instances[2].has_result);  // the last row goes to the one left: c
   EXPECT_NEAR(report->instances[2].add_m, 0.195, 1e-9);
   // Two rows for three instances: the third has none.
@@ -350,6 +354,7 @@ TEST(EvalInstances, RowsTakeTheNearestInstanceInScoreOrder) {
   EXPECT_TRUE(two->instances[0].has_result);
   EXPECT_TRUE(two->instances[1].has_result);
   EXPECT_FALSE(two->instances[2].has_result);
+  EXPECT_EQ(two->instances[2].result_index, -1);
   EXPECT_EQ(two->overall.with_result, 2);
 }
 
