@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 
 #include <nlohmann/json.hpp>
@@ -91,7 +92,16 @@ Status RunEstimate(EstimateArgs& a) {
     if (detections.empty()) return InvalidArgument(a.detections + ": holds no detections of the scenes given by --scene");
   }
   MCPOSE_RETURN_IF_ERROR(KeepScoresAtLeast(a.min_score, a.detections, &detections));
-  // BOP's targets: each (image, class) they name holds inst_count instances.
+  // BOP's targets: each (image, class) they name holds inst_count instances. A BOP dataset's
+  // own test_targets_bop19.json counts for its test split, as in mcpose eval.
+  if (a.targets.empty() && dataset->format() == DatasetFormat::kBop && a.split == "test") {
+    std::error_code ec;
+    const std::string own = dataset->root() + "/test_targets_bop19.json";
+    if (std::filesystem::is_regular_file(own, ec)) {
+      a.targets = own;
+      if (!a.quiet) spdlog::info("instances per (image, class) from {}", own);
+    }
+  }
   InstanceCounts instance_counts;
   std::string counts_text;
   if (!a.targets.empty()) {
@@ -182,7 +192,7 @@ void AddEstimateCommand(CLI::App& app, Status* status) {
       ->capture_default_str();
   cmd->add_option("--targets", args->targets,
                   "BOP's test_targets_bop19.json: each (image, class) it names holds its inst_count instances "
-                  "(overrides --max-instances there)");
+                  "(overrides --max-instances there; default: a BOP dataset's own, for the test split)");
   cmd->add_option("--out", args->out, "Results CSV (BOP format: scene_id,im_id,obj_id,score,R,t,time)")->required();
   cmd->add_option("--out-json", args->out_json, "Per-object detail: chosen box, per-iteration weights and times, engine counters");
   AddEstimatorFlags(cmd, kAllEstimatorFlags, &args->flags);
