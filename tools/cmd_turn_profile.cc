@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "analysis/turn_profile.h"
+#include "engine/instances.h"
 #include "engine/twins.h"
 #include "cli/common.h"
 #include "io/io_util.h"
@@ -27,13 +28,6 @@ struct TurnProfileArgs {
   cli::EstimatorFlags flags;
   analysis::TurnProfileOptions turn;
 };
-
-double Iou(const Detection& a, const Detection& b) {
-  const double w = std::min(a.x + a.w, b.x + b.w) - std::max(a.x, b.x);
-  const double h = std::min(a.y + a.h, b.y + b.h) - std::max(a.y, b.y);
-  if (w <= 0 || h <= 0) return 0;
-  return w * h / (a.w * a.h + b.w * b.h - w * h);
-}
 
 Status RunTurnProfile(TurnProfileArgs& a) {
   MCPOSE_RETURN_IF_ERROR(a.flags.Finish());
@@ -75,8 +69,8 @@ Status RunTurnProfile(TurnProfileArgs& a) {
       if (MaskBox(mask, &tight) == 0) continue;  // not visible
       const Detection* box = &candidates[0];     // the box that overlaps the instance most
       for (const Detection& d : candidates)
-        if (Iou(d, tight) > Iou(*box, tight)) box = &d;
-      if (Iou(*box, tight) == 0) continue;  // a distractor box elsewhere
+        if (engine::BoxIou(d, tight) > engine::BoxIou(*box, tight)) box = &d;
+      if (engine::BoxIou(*box, tight) == 0) continue;  // a distractor box elsewhere
       auto profile = analysis::ProfileTurns(frame.K, frame.depth, colour ? &*colour : nullptr, mesh, *box,
                                             gt.T_cam_obj, o, a.turn);
       if (!profile.ok())

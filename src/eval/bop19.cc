@@ -167,28 +167,25 @@ Bop19Summary Bop19Recalls(const std::vector<const Bop19Instance*>& instances, co
     return count;
   };
   const double targets = s.targets;
-  double vsd = 0;
-  for (size_t tau = 0; tau < options.vsd_taus.size(); ++tau)
-    for (double th : options.vsd_thresholds)
-      vsd += matched([&](const Bop19Errors& e, const Bop19Instance&, double* error) {
-               *error = e.vsd[tau];
+  // The recall averaged over `thresholds`, an estimate's error against an instance by `error_of`.
+  const auto mean_recall = [&](const std::vector<double>& thresholds, const auto& error_of) {
+    double sum = 0;
+    for (double th : thresholds)
+      sum += matched([&](const Bop19Errors& e, const Bop19Instance& i, double* error) {
+               *error = error_of(e, i);
                return *error < th;
              }) / targets;
-  s.ar_vsd = vsd / static_cast<double>(options.vsd_taus.size() * options.vsd_thresholds.size());
-  double mssd = 0;
-  for (double th : options.mssd_thresholds)
-    mssd += matched([&](const Bop19Errors& e, const Bop19Instance& i, double* error) {
-              *error = e.mssd_m / i.diameter_m;
-              return *error < th;
-            }) / targets;
-  s.ar_mssd = mssd / static_cast<double>(options.mssd_thresholds.size());
-  double mspd = 0;
-  for (double th : options.mspd_thresholds_px)
-    mspd += matched([&](const Bop19Errors& e, const Bop19Instance& i, double* error) {
-              *error = e.mspd_px * 640.0 / i.image_width;
-              return *error < th;
-            }) / targets;
-  s.ar_mspd = mspd / static_cast<double>(options.mspd_thresholds_px.size());
+    return sum / static_cast<double>(thresholds.size());
+  };
+  s.ar_vsd = 0;
+  for (size_t tau = 0; tau < options.vsd_taus.size(); ++tau)
+    s.ar_vsd += mean_recall(options.vsd_thresholds, [tau](const Bop19Errors& e, const Bop19Instance&) { return e.vsd[tau]; });
+  s.ar_vsd /= static_cast<double>(options.vsd_taus.size());
+  s.ar_mssd = mean_recall(options.mssd_thresholds,
+                          [](const Bop19Errors& e, const Bop19Instance& i) { return e.mssd_m / i.diameter_m; });
+  s.ar_mspd = mean_recall(options.mspd_thresholds_px, [](const Bop19Errors& e, const Bop19Instance& i) {
+    return e.mspd_px * 640.0 / i.image_width;
+  });
   s.ar = (s.ar_vsd + s.ar_mssd + s.ar_mspd) / 3;
   return s;
 }
