@@ -55,7 +55,8 @@ void AddEstimatorFlags(CLI::App* cmd, unsigned groups, EstimatorFlags* f) {
         ->capture_default_str();
     cmd->add_option("--init-rest-share", o.init.rest_share,
                     "Share of each box's samples that start at rest on the plane the box stands on (a stable face "
-                    "of the model down, turned at random about the plane's normal); [0, 1]")
+                    "of the model down, turned at random about the plane's normal), taken from the samples not at "
+                    "the front first; [0, 1]")
         ->capture_default_str();
     cmd->add_option("--init-front-quantile", o.init.front_quantile,
                     "Quantile of the box's valid depths where a front sample's nearest point starts")

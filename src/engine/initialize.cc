@@ -175,15 +175,22 @@ void InitializeSamples(const BoxScorer& scorer, const EstimatorOptions& options,
     const Eigen::Vector3d ray((uc - K.cx) / K.fx, (vc - K.cy) / K.fy, 1.0);
     const std::optional<SupportPlane> plane =
         rests ? FindSupportPlane(scorer.depth(), K, d, options.seed, stream_id, b) : std::nullopt;
+    // Sample k of the box starts at the front depth when (k + 1) share passes an integer: every
+    // sample at share 1, every other one at 0.5, none at 0. Rest samples are taken from the
+    // centre samples first (the front ones find thin objects before a table), evenly among them
+    // by the same rule, and only past 1 - share from the front ones.
+    const double front_share = z_front > 0 ? share : 0.0;
+    const double rest_of_centre = front_share < 1 ? std::min(1.0, rest_share / (1 - front_share)) : 0.0;
+    const double rest_of_front = front_share > 0 ? std::max(0.0, rest_share - (1 - front_share)) / front_share : 0.0;
+    const auto passes = [](int k, double rate) { return std::floor((k + 1) * rate) > std::floor(k * rate); };
+    int fronts = 0, centres = 0;
     for (int k = 0; k < per_box[static_cast<size_t>(b)]; ++k, ++i) {
       Rng rng(options.seed, stream_id, kInitStream, static_cast<uint64_t>(i));
       p.box[i] = static_cast<int32_t>(b);
       p.R_cam_obj[i] = filter::UniformRotation(rng.Uniform(), rng.Uniform(), rng.Uniform());
-      // Sample k of the box starts at rest when (k + 1) rest_share passes an integer, and
-      // otherwise at the front depth when (k + 1) share does: every sample at share 1, every
-      // other one at 0.5, none at 0.
-      const bool at_rest = plane && std::floor((k + 1) * rest_share) > std::floor(k * rest_share);
-      const bool at_front = z_front > 0 && std::floor((k + 1) * share) > std::floor(k * share);
+      const bool at_front = passes(k, front_share);
+      const bool at_rest = plane && (at_front ? passes(fronts, rest_of_front) : passes(centres, rest_of_centre));
+      (at_front ? fronts : centres) += 1;
       Eigen::Vector3d t;
       if (at_rest) {
         t = PoseAtRest(*rests, *plane, ray, rng, &p.R_cam_obj[i]);

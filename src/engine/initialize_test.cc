@@ -49,6 +49,7 @@ EstimatorOptions NoJitter() {
   EstimatorOptions o;
   o.samples = 200;
   o.init.sigma_t_m = 0;
+  o.init.rest_share = 0;  // the tests of rest samples set it
   return o;
 }
 
@@ -182,6 +183,32 @@ TEST(InitializeSamples, RestSamplesLieOnTheSupportPlane) {
   }
   EXPECT_GE(heights.size(), 2u);  // more than one face down
   EXPECT_LE(*heights.rbegin(), 61);  // none higher than the slab's half length
+}
+
+TEST(InitializeSamples, RestSamplesComeFromTheCentreSamplesFirst) {
+  const Scene s = MakeTableScene(Eigen::Vector3d(0, -0.8, -0.6).normalized(), 0.6);
+  EstimatorOptions o = NoJitter();
+  o.init.front_share = 0.5;
+  const filter::ParticleSet none = Initialize(s, o);
+  const auto same = [](const filter::ParticleSet& a, const filter::ParticleSet& b, size_t i) {
+    return a.R_cam_obj[i] == b.R_cam_obj[i] && a.t_cam_obj_m[i] == b.t_cam_obj_m[i];
+  };
+  // Half at rest (the default): every centre sample (even index) at rest, every front one kept.
+  o.init.rest_share = 0.5;
+  ASSERT_EQ(o.init.rest_share, EstimatorOptions{}.init.rest_share);
+  const filter::ParticleSet half = Initialize(s, o);
+  for (size_t i = 0; i < half.size(); ++i) EXPECT_EQ(same(half, none, i), i % 2 == 1) << i;
+  // A quarter: every other centre sample.
+  o.init.rest_share = 0.25;
+  const filter::ParticleSet quarter = Initialize(s, o);
+  for (size_t i = 0; i < quarter.size(); ++i) EXPECT_EQ(same(quarter, none, i), i % 4 != 2) << i;
+  // Three quarters: every centre sample and every other front one.
+  o.init.rest_share = 0.75;
+  const filter::ParticleSet most = Initialize(s, o);
+  int kept = 0;
+  for (size_t i = 0; i < most.size(); ++i) kept += same(most, none, i);
+  EXPECT_EQ(kept, 50);
+  for (size_t i = 0; i < most.size(); i += 2) EXPECT_FALSE(same(most, none, i)) << i;
 }
 
 }  // namespace
