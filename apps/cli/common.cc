@@ -132,6 +132,11 @@ void AddEstimatorFlags(CLI::App* cmd, unsigned groups, EstimatorFlags* f) {
         ->capture_default_str();
     cmd->add_option("--refine-twin-iterations", o.refine.twin_iterations,
                     "Alignment steps for each twin candidate")->capture_default_str();
+    cmd->add_option("--refine-tukey", o.refine.tukey_m, "Robust (Tukey) loss scale of the alignment, metres")
+        ->capture_default_str();
+    cmd->add_option("--refine-max-distance", o.refine.max_distance_m,
+                    "The alignment pairs no model and observed points farther apart than this, metres")
+        ->capture_default_str();
     cmd->add_option("--refine-accept-eps", o.refine.accept_eps_m,
                     "Inlier threshold (m) of the weight that decides whether the aligned pose is kept; 0: --eps")
         ->capture_default_str();
