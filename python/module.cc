@@ -25,6 +25,7 @@
 #include "mcpose/detection.h"
 #include "mcpose/estimator.h"
 #include "mcpose/eval.h"
+#include "mcpose/option_table.h"
 #include "mcpose/results.h"
 #include "mcpose/tracker.h"
 #include "mcpose/version.h"
@@ -517,17 +518,46 @@ PYBIND11_MODULE(_mcpose, m) {
     Check(WriteDetectionsJson(path, DetectionsFromPython(dets)));
   });
   m.def("is_switch", &cli::IsEstimatorSwitch);
+  m.def("option_fields", [] {
+    // The options table: each field's key, flag, type, default (as JSON gives it), values,
+    // unit and doc.
+    const nlohmann::json defaults = io::OptionsToJson(EstimatorOptions{});
+    static const char* const kTypes[] = {"int", "seed", "float", "bool", "enum"};
+    py::list fields;
+    for (const OptionField& f : EstimatorOptionFields()) {
+      py::dict d;
+      d["key"] = f.key;
+      d["flag"] = f.flag ? py::object(py::str(f.flag)) : py::object(py::none());
+      d["type"] = kTypes[static_cast<int>(f.type)];
+      std::string pointer = std::string("/") + f.key;
+      for (char& c : pointer)
+        if (c == '.') c = '/';
+      d["default"] = py::module_::import("json").attr("loads")(defaults.at(nlohmann::json::json_pointer(pointer)).dump());
+      d["choices"] = std::vector<std::string>(f.names.begin(), f.names.end());
+      d["values"] = f.BoundsText();
+      d["unit"] = f.unit;
+      d["doc"] = f.doc;
+      fields.append(d);
+    }
+    return fields;
+  });
   m.def("check_detections", [](const PyDataset& ds, const py::iterable& detections, const std::string& source) {
     Value(GroupDetections(*ds.ds, DetectionsFromPython(detections), source));
   });
 
   py::class_<PyEstimator>(m, "Estimator")
-      .def(py::init([](const std::vector<std::string>& args) {
+      .def(py::init([](const std::vector<std::string>& args, const std::string& options_json) {
         PyEstimator e;
-        e.options = Value(cli::ParseEstimatorOptions(args));
+        EstimatorOptions base;
+        if (!options_json.empty()) {
+          const nlohmann::json j = nlohmann::json::parse(options_json, nullptr, /*allow_exceptions=*/false);
+          if (j.is_discarded()) Raise(InvalidArgument("options: not JSON"));
+          base = Value(io::OptionsFromJson(j));
+        }
+        e.options = Value(cli::ParseEstimatorOptions(args, base));
         e.estimator = Value(Estimator::Create(e.options));
         return e;
-      }))
+      }), py::arg("args"), py::arg("options_json") = "")
       .def_property_readonly("options_json", [](const PyEstimator& s) { return io::OptionsToJson(s.options).dump(); })
       .def("estimate",
            [](PyEstimator& self, const py::array& depth, const py::array& K, const py::iterable& detections,

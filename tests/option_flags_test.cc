@@ -1,6 +1,8 @@
 // Every field of the estimator's options, as the run fingerprint sees it (its JSON), can be set
 // from the command line (and so from Python, which passes its keyword options as these flags),
 // and setting it changes the fingerprint that guards `--resume`.
+#include <fstream>
+#include <iterator>
 #include <set>
 #include <string>
 #include <vector>
@@ -11,6 +13,7 @@
 #include "cli/common.h"
 #include "io/options_json.h"
 #include "io/results_journal.h"
+#include "mcpose/option_table.h"
 
 namespace mcpose {
 namespace {
@@ -110,6 +113,10 @@ TEST(OptionFlags, EveryFieldHasAFlagThatSetsItAloneAndChangesTheFingerprint) {
       if (j.at(p) != base.at(p)) changed.insert(leaf);
     }
     EXPECT_EQ(changed, c.changed) << joined;
+    // JSON -> options gives the same options again.
+    StatusOr<EstimatorOptions> back = io::OptionsFromJson(j);
+    ASSERT_TRUE(back.ok()) << joined << ": " << back.status().ToString();
+    EXPECT_EQ(io::OptionsToJson(*back), j) << joined;
     covered.insert(changed.begin(), changed.end());
     // The thread count changes no result, so it is left out of the fingerprint.
     const bool result_field = c.changed != std::set<std::string>{"/engine/threads"};
@@ -117,6 +124,32 @@ TEST(OptionFlags, EveryFieldHasAFlagThatSetsItAloneAndChangesTheFingerprint) {
   }
   // No field without a flag: one added to the options' JSON needs a case here, and a flag.
   EXPECT_EQ(covered, leaves);
+}
+
+TEST(OptionFlags, JsonOptionsAreCheckedAsTheCommandLineChecksThem) {
+  const auto message = [](const char* text) {
+    StatusOr<EstimatorOptions> o = io::OptionsFromJson(nlohmann::json::parse(text));
+    return o.ok() ? std::string("ok") : o.status().message();
+  };
+  EXPECT_EQ(message(R"({"samples": 300, "refine": {"tukey_m": 0.008}})"), "ok");
+  EXPECT_NE(message(R"({"samples": 0})").find("samples must lie in [1, 1000000], got 0"), std::string::npos);
+  EXPECT_NE(message(R"({"samples": 1.5})").find("samples must be a whole number"), std::string::npos);
+  EXPECT_NE(message(R"({"refine": {"tukey": 0.008}})").find("unknown key 'refine.tukey'"), std::string::npos);
+  EXPECT_NE(message(R"({"engine": {"backend": "gpu"}})").find("scalar, fixed, simd or float-simd"), std::string::npos);
+  EXPECT_NE(message(R"({"weight": {"eps_m": -1}})").find("weight.eps_m must be finite and > 0 m"), std::string::npos);
+  EXPECT_NE(message(R"({"appearance": {"enabled": "yes"}})").find("true or false"), std::string::npos);
+  EXPECT_NE(message(R"({"seed": -1})").find("seed must be a whole number >= 0"), std::string::npos);
+  EXPECT_NE(message("[1]").find("expected a JSON object"), std::string::npos);
+}
+
+// docs/options.md holds the table as OptionTableMarkdown() prints it.
+TEST(OptionFlags, TheDocsTableIsTheTable) {
+  const std::string path = std::string(MCPOSE_SOURCE_DIR) + "/docs/options.md";
+  std::ifstream in(path);
+  ASSERT_TRUE(in) << path;
+  const std::string doc((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string table = OptionTableMarkdown();
+  EXPECT_NE(doc.find(table), std::string::npos) << path << " must hold the options table as it is now:\n" << table;
 }
 
 }  // namespace

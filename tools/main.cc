@@ -5,6 +5,7 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
+#include "mcpose/option_table.h"
 #include "tools.h"
 
 int main(int argc, char** argv) {
@@ -18,6 +19,9 @@ int main(int argc, char** argv) {
   mcpose::tools::AddMissesCommand(app, &status);
   mcpose::tools::AddRelightCommand(app, &status);
   mcpose::tools::AddTwinMarginCommand(app, &status);
+  app.add_subcommand("options-table",
+                     "Print the estimator's options table (docs/options.md holds it; a test checks it is current)")
+      ->callback([] { std::fputs(mcpose::OptionTableMarkdown().c_str(), stdout); });
   // Warnings and progress go to stderr; stdout carries only what a command reports.
   spdlog::set_default_logger(spdlog::stderr_color_st("mcpose-tools"));
   try {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <initializer_list>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -10,43 +11,40 @@
 
 #include "mcpose/dataset.h"
 #include "mcpose/detection.h"
+#include "mcpose/option_table.h"
 #include "mcpose/options.h"
 #include "mcpose/tracker.h"
 #include "mcpose/status.h"
 
 namespace mcpose::cli {
 
-// The groups of estimator flags a command takes.
+// The groups of estimator flags a command takes (the table's groups, mcpose/option_table.h).
 enum FlagGroup : unsigned {
-  kSamplingFlags = 1u << 0,  // --samples --seed
-  kStoppingFlags = 1u << 1,  // --iterations --tau
-  kWeightFlags = 1u << 2,    // --inlier --eps --weights --[no-]occlusion-aware
-  kSearchFlags = 1u << 3,    // initialization, resampling and diffusion
-  kEngineFlags = 1u << 4,    // --engine, its features, --threads, --simd-target
-  kAppearanceFlags = 1u << 5,  // --appearance --colour-weight --colour-min-pixels
-  kRefineFlags = 1u << 6,      // --refine ...
-  kInstanceFlags = 1u << 7,    // --max-instances (estimation jobs, not tracking)
-  kAllEstimatorFlags = 0xff,
+  kSamplingFlags = kSamplingOptions,      // --samples --seed
+  kStoppingFlags = kStoppingOptions,      // --iterations --tau
+  kWeightFlags = kWeightOptions,          // --inlier --eps --weights --[no-]occlusion-aware --box-fit
+  kSearchFlags = kSearchOptions,          // initialization, resampling and diffusion
+  kEngineFlags = kEngineOptions,          // --engine, its features, --threads, --simd-target
+  kAppearanceFlags = kAppearanceOptions,  // --appearance and the colour term
+  kRefineFlags = kRefineOptions,          // --refine ...
+  kInstanceFlags = kInstanceOptions,      // --max-instances (estimation jobs, not tracking)
+  kAllEstimatorFlags = kAllOptions,
 };
 
-// The estimator's options as flags: parsed into `options` and finished by Finish().
+// The estimator's options as flags, one per field of the options table (plus --weights for
+// a b c, and --simd-target): parsed into `options` and finished by Finish().
 struct EstimatorFlags {
   EstimatorOptions options;
-  std::string engine = RasterBackendName(EstimatorOptions{}.engine.backend);
-  std::string inlier = "1d";
-  std::string appearance = "on";
-  std::string colour_space = AppearanceOptions::SpaceName(AppearanceOptions{}.space);
-  std::string refine = "on";
+  std::map<std::string, std::string> text;          // enum and on|off fields by key, as given
+  std::map<std::string, const CLI::Option*> given;  // the switches of the engine's features
   std::string simd_target;
   std::vector<double> weights;
-  CLI::Option* lod_unbiased = nullptr;
-  CLI::Option* cluster_culling = nullptr;
-  CLI::Option* batched_setup = nullptr;
 
-  // After parsing: applies --engine, --inlier, --weights and --simd-target; the engine features
-  // not given on the command line are turned off where the chosen backend and LOD setting
-  // cannot use them (so `--engine scalar` needs nothing else), while one given explicitly that
-  // has no effect is an error; then validates. Errors name the flag or the option field.
+  // After parsing: applies the enum and on|off fields, --weights and --simd-target; the engine
+  // features not given on the command line are turned off where the chosen backend and LOD
+  // setting cannot use them (so `--engine scalar` needs nothing else), while one given
+  // explicitly that has no effect is an error; then validates. Errors name the flag or the
+  // option field.
   Status Finish();
 };
 
@@ -56,7 +54,9 @@ void AddEstimatorFlags(CLI::App* cmd, unsigned groups, EstimatorFlags* flags);
 // The estimator's options from `args` ("--samples", "300", "--no-resolve-twins", ...), parsed
 // as `mcpose estimate` parses its flags: the same defaults, checks and one-line messages. For
 // front ends other than the command line (the Python package).
-StatusOr<EstimatorOptions> ParseEstimatorOptions(const std::vector<std::string>& args);
+// `base`: the options before the flags (default: the defaults).
+StatusOr<EstimatorOptions> ParseEstimatorOptions(const std::vector<std::string>& args,
+                                                 const EstimatorOptions& base = EstimatorOptions{});
 // The tracker's own flags (--track-samples ... --lost-visible), with their defaults in the help;
 // `mcpose track` adds the estimator's beside them.
 void AddTrackerFlags(CLI::App* cmd, TrackerOptions* options);

@@ -1,6 +1,8 @@
 // Options of the Monte-Carlo pose estimator, grouped by the step of the filter they steer.
-// Every field has a documented default; EstimatorOptions::IsValid names the first invalid
-// field, or the fields of a combination that has no effect.
+// Every field has a documented default and one line in the options table
+// (mcpose/option_table.h), which gives its flag, JSON key and bounds;
+// EstimatorOptions::IsValid names the first invalid field, or the fields of a combination that
+// has no effect.
 #pragma once
 
 #include <cstdint>
@@ -39,9 +41,8 @@ enum class RasterBackend {
   kFloatSimd,   // kScalar a Highway vector at a time; bit-identical to kScalar
 };
 
-// "scalar, fixed, simd or float-simd": the names ParseRasterBackend accepts, for messages.
-inline constexpr const char* kRasterBackendChoices = "scalar, fixed, simd or float-simd";
-// "scalar" / "fixed" / "simd" / "float-simd"; false for an unknown name.
+// "scalar" / "fixed" / "simd" / "float-simd" (RasterBackendNames() in mcpose/option_table.h);
+// false for an unknown name.
 bool ParseRasterBackend(const std::string& name, RasterBackend* backend);
 const char* RasterBackendName(RasterBackend backend);
 // kFixedPoint and kSimd: the backends that snap vertices and so can batch their setup and
@@ -187,7 +188,6 @@ struct AppearanceOptions {
   // "rgb", "chroma", "intensity-hue"; Parse: false for another name.
   static const char* SpaceName(Space space);
   static bool ParseSpace(const std::string& name, Space* space);
-  static constexpr const char* kSpaceChoices = "intensity-hue, chroma or rgb";
   // The observed colour of each tested pixel is the mean of the (2 r + 1)^2 pixels around it,
   // r = smooth_radius (0 to 3; 0: the pixel alone): sensor noise and compression artefacts
   // average out, as they do in the model's colour grid, whose cells span a few millimetres.

@@ -28,7 +28,7 @@ import numpy as np
 from . import _mcpose
 from ._mcpose import Frame, Mesh, __version__, read_detections, write_detections  # noqa: F401
 
-__all__ = ["Dataset", "Estimator", "ObjectResult", "Tracker", "TrackStep", "Frame", "Mesh", "read_detections",
+__all__ = ["Dataset", "Estimator", "EstimatorOptions", "ObjectResult", "Tracker", "TrackStep", "Frame", "Mesh", "read_detections",
            "write_detections", "PER_ITERATION_DTYPE"]
 
 #: Fields of ``ObjectResult.per_iteration``: each iteration's mean and best weight (unitless,
@@ -122,21 +122,127 @@ def _option_args(options):
     return args
 
 
+_FIELDS = {f["key"]: f for f in _mcpose.option_fields()}
+
+
+class _OptionGroup:
+    """The fields of one group of ``EstimatorOptions`` (``init``, ``weight``, ``refine``, ...)."""
+
+    def __init__(self, root, prefix):
+        object.__setattr__(self, "_root", root)
+        object.__setattr__(self, "_prefix", prefix)
+
+    def __getattr__(self, name):
+        return self._root._get(self._prefix + name)
+
+    def __setattr__(self, name, value):
+        self._root._set(self._prefix + name, value)
+
+    def __dir__(self):
+        return [k[len(self._prefix):] for k in _FIELDS if k.startswith(self._prefix)]
+
+    def __repr__(self):
+        return "{" + ", ".join(f"{k}={getattr(self, k)!r}" for k in self.__dir__()) + "}"
+
+
+class EstimatorOptions:
+    """Every option of the estimator as an attribute, grouped as ``mcpose::EstimatorOptions``
+    (``include/mcpose/options.h``; the table of every field, its default and values:
+    ``docs/options.md``)::
+
+        opts = mcpose.EstimatorOptions(samples=300, refine={"tukey_m": 0.008})
+        opts.refine.tukey_m = 0.006
+        opts.engine.backend = "scalar"
+        est = mcpose.Estimator(opts, threads=2)   # keywords: flags applied on top
+
+    Setting a field that does not exist raises ``AttributeError``, a value of the wrong type
+    ``TypeError``; bounds are checked when an ``Estimator`` is made (``ValueError`` with the
+    command line's message). ``to_json()`` gives the options' JSON, as ``--out-json`` writes it.
+    """
+
+    def __init__(self, **fields):
+        object.__setattr__(self, "_values", {k: f["default"] for k, f in _FIELDS.items()})
+        for name, value in fields.items():
+            if isinstance(value, dict):
+                for k, v in value.items():
+                    self._set(f"{name}.{k}", v)
+            else:
+                self._set(name, value)
+
+    def _get(self, key):
+        if key in self._values:
+            return self._values[key]
+        if any(k.startswith(key + ".") for k in self._values):
+            return _OptionGroup(self, key + ".")
+        raise AttributeError(f"EstimatorOptions has no field '{key}' (docs/options.md lists them)")
+
+    def _set(self, key, value):
+        f = _FIELDS.get(key)
+        if f is None:
+            raise AttributeError(f"EstimatorOptions has no field '{key}' (docs/options.md lists them)")
+        kind = f["type"]
+        if kind == "bool":
+            if not isinstance(value, (bool, np.bool_)):
+                raise TypeError(f"{key} takes True or False, got {value!r}")
+            value = bool(value)
+        elif kind in ("int", "seed"):
+            if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+                raise TypeError(f"{key} takes a whole number, got {value!r}")
+            value = int(value)
+        elif kind == "float":
+            if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)):
+                raise TypeError(f"{key} takes a number, got {value!r}")
+            value = float(value)
+        elif kind == "enum" and value not in f["choices"]:
+            raise TypeError(f"{key} takes one of {', '.join(f['choices'])}, got {value!r}")
+        self._values[key] = value
+
+    def __getattr__(self, name):
+        return self._get(name)
+
+    def __setattr__(self, name, value):
+        self._set(name, value)
+
+    def __dir__(self):
+        return sorted({k.split(".")[0] for k in _FIELDS})
+
+    def to_dict(self):
+        """The options as nested dicts, the groups as dicts."""
+        out = {}
+        for key, value in self._values.items():
+            *groups, name = key.split(".")
+            d = out
+            for g in groups:
+                d = d.setdefault(g, {})
+            d[name] = value
+        return out
+
+    def to_json(self):
+        """The options' JSON, as ``mcpose estimate --out-json`` writes them."""
+        import json
+        return json.dumps(self.to_dict())
+
+    def __repr__(self):
+        return f"EstimatorOptions({self.to_dict()!r})"
+
+
 class Estimator:
     """The Monte-Carlo pose estimator with the options of ``mcpose estimate``.
 
-    ``Estimator(**options)``: each keyword is a flag of ``mcpose estimate`` with ``-`` written
-    ``_`` (``samples=620``, ``max_grid_pixels=0``, ``engine="scalar"``, ``weights=(a, b, c)``,
-    ``appearance=False`` or ``"off"``, ``resolve_twins=False``), with the same defaults, and
-    parsed and checked by the same code: a bad option raises ``ValueError`` with the message the
-    command line prints. The GIL is released while the engine runs; one estimator serves one call
-    at a time (calls from other threads wait their turn), so threads that estimate at once each
-    need their own.
+    ``Estimator(options=None, **flags)``: ``options`` an ``EstimatorOptions`` (default: the
+    defaults); each keyword is then a flag of ``mcpose estimate`` with ``-`` written ``_``
+    (``samples=620``, ``max_grid_pixels=0``, ``engine="scalar"``, ``weights=(a, b, c)``,
+    ``appearance=False`` or ``"off"``, ``resolve_twins=False``, ``refine_tukey=0.008``), with the
+    same defaults, and parsed and checked by the same code: a bad option raises ``ValueError``
+    with the message the command line prints. The GIL is released while the engine runs; one
+    estimator serves one call at a time (calls from other threads wait their turn), so threads
+    that estimate at once each need their own.
     """
 
-    def __init__(self, **options):
-        self._options = dict(options)
-        self._impl = _mcpose.Estimator(_option_args(options))
+    def __init__(self, options=None, **flags):
+        if options is not None and not isinstance(options, EstimatorOptions):
+            raise TypeError(f"options must be an EstimatorOptions, got {type(options).__name__}")
+        self._impl = _mcpose.Estimator(_option_args(flags), options.to_json() if options is not None else "")
 
     @property
     def options(self):

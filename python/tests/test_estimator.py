@@ -116,6 +116,43 @@ def test_options_match_cli_defaults():
     assert mcpose.Estimator(samples=300, weights=(0.5, 0.2, 0.3), resolve_twins=False).options["samples"] == 300
 
 
+def test_every_option_field_is_an_attribute():
+    defaults = mcpose.Estimator().options
+    opts = mcpose.EstimatorOptions()
+    assert opts.to_dict() == defaults
+    fields = mcpose._mcpose.option_fields()
+    assert len(fields) == len({f["key"] for f in fields}) > 50
+    for f in fields:
+        *groups, name = f["key"].split(".")
+        holder = opts
+        for g in groups:
+            holder = getattr(holder, g)
+        assert getattr(holder, name) == f["default"], f["key"]
+        setattr(holder, name, f["default"])  # each is settable with a value of its type
+    assert mcpose.Estimator(opts).options == defaults
+
+
+def test_estimator_options_as_attributes_and_keywords():
+    opts = mcpose.EstimatorOptions(samples=300, refine={"tukey_m": 0.008})
+    opts.engine.backend = "fixed"
+    opts.init.rest_share = 0
+    o = mcpose.Estimator(opts, threads=1).options  # flags on top of the options
+    assert o["samples"] == 300 and o["refine"]["tukey_m"] == 0.008 and o["engine"]["backend"] == "fixed"
+    assert o["init"]["rest_share"] == 0 and o["engine"]["threads"] == 1
+    assert mcpose.Estimator(refine_tukey=0.008, refine_max_distance=0.03).options["refine"]["max_distance_m"] == 0.03
+    with pytest.raises(AttributeError, match="no field 'refine.tukey'"):
+        opts.refine.tukey = 0.01
+    with pytest.raises(TypeError, match="samples takes a whole number"):
+        opts.samples = 1.5
+    with pytest.raises(TypeError, match="scalar, fixed, simd, float-simd"):
+        opts.engine.backend = "gpu"
+    with pytest.raises(TypeError, match="takes True or False"):
+        opts.appearance.enabled = "off"
+    opts.samples = 0  # bounds: checked by the C++ library, with the command line's words
+    with pytest.raises(ValueError, match=r"samples must lie in \[1, 1000000\], got 0"):
+        mcpose.Estimator(opts)
+
+
 @pytest.mark.parametrize("options,flags", [
     ({"samples": 0}, ["--samples", "0"]),
     ({"engine": "gpu"}, ["--engine", "gpu"]),

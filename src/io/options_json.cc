@@ -1,70 +1,79 @@
 #include "io/options_json.h"
 
+#include <cstdint>
+
+#include "mcpose/option_table.h"
+
 namespace mcpose::io {
 
+namespace {
+
+// The JSON pointer of a table key: "refine.tukey_m" -> /refine/tukey_m.
+nlohmann::json::json_pointer Pointer(const char* key) {
+  std::string path = std::string("/") + key;
+  for (char& c : path)
+    if (c == '.') c = '/';
+  return nlohmann::json::json_pointer(path);
+}
+
+}  // namespace
+
 nlohmann::json OptionsToJson(const EstimatorOptions& o) {
-  const auto& w = o.weight;
-  const auto& d = o.diffusion;
-  const auto& e = o.engine;
-  return {
-      {"samples", o.samples},
-      {"max_iterations", o.max_iterations},
-      {"tau", o.tau},
-      {"seed", o.seed},
-      {"max_instances", o.max_instances},
-      {"init",
-       {{"front_share", o.init.front_share},
-        {"front_quantile", o.init.front_quantile},
-        {"depth_quantile", o.init.depth_quantile},
-        {"rest_share", o.init.rest_share},
-        {"sigma_t_m", o.init.sigma_t_m}}},
-      {"weight",
-       {{"inlier", w.inlier == InlierMode::k1D ? "1d" : "3d"},
-        {"eps_m", w.eps_m},
-        {"a", w.a},
-        {"b", w.b},
-        {"c", w.c},
-        {"occlusion_aware", w.occlusion_aware},
-        {"box_fit", w.box_fit}}},
-      {"resample",
-       {{"keep_top_fraction", o.resample.keep_top_fraction}, {"cdf_table_size", o.resample.cdf_table_size}}},
-      {"diffusion",
-       {{"sigma_t_m", d.sigma_t_m},
-        {"sigma_r_rad", d.sigma_r_rad},
-        {"sigma_t_min_m", d.sigma_t_min_m},
-        {"sigma_r_min_rad", d.sigma_r_min_rad},
-        {"anneal", d.anneal},
-        {"flip_rate", d.flip_rate}}},
-      {"appearance",
-       {{"enabled", o.appearance.enabled}, {"weight", o.appearance.weight}, {"min_pixels", o.appearance.min_pixels},
-        {"pixel_step", o.appearance.pixel_step},
-        {"smooth_radius", o.appearance.smooth_radius},
-        {"drop_clipped", o.appearance.drop_clipped},
-        {"trust_pixels", o.appearance.trust_pixels},
-        {"ramp_iterations", o.appearance.ramp_iterations},
-        {"space", AppearanceOptions::SpaceName(o.appearance.space)},
-        {"resolve_twins", o.appearance.resolve_twins},
-        {"twin_step_deg", o.appearance.twin_step_deg},
-        {"twin_refine_iterations", o.appearance.twin_refine_iterations},
-        {"twin_depth_margin", o.appearance.twin_depth_margin}}},
-      {"refine",
-       {{"enabled", o.refine.enabled},
-        {"max_iterations", o.refine.max_iterations},
-        {"twin_iterations", o.refine.twin_iterations},
-        {"tukey_m", o.refine.tukey_m},
-        {"max_distance_m", o.refine.max_distance_m},
-        {"accept_eps_m", o.refine.accept_eps_m}}},
-      {"engine",
-       {{"backend", RasterBackendName(e.backend)},
-        {"backface_culling", e.backface_culling},
-        {"pixel_stride", e.pixel_stride},
-        {"max_grid_pixels", e.max_grid_pixels},
-        {"lod_error_px", e.lod_error_px},
-        {"lod_unbiased", e.lod_unbiased},
-        {"cluster_culling", e.cluster_culling},
-        {"batched_setup", e.batched_setup},
-        {"threads", e.threads}}},
-  };
+  nlohmann::json j = nlohmann::json::object();
+  EstimatorOptions& options = const_cast<EstimatorOptions&>(o);  // read through the table's addresses
+  for (const OptionField& f : EstimatorOptionFields()) {
+    nlohmann::json& v = j[Pointer(f.key)];
+    switch (f.type) {
+      case OptionField::Type::kInt: v = *static_cast<int*>(f.at(options)); break;
+      case OptionField::Type::kSeed: v = *static_cast<uint64_t*>(f.at(options)); break;
+      case OptionField::Type::kDouble: v = *static_cast<double*>(f.at(options)); break;
+      case OptionField::Type::kBool: v = *static_cast<bool*>(f.at(options)); break;
+      case OptionField::Type::kEnum: v = f.Text(o); break;
+    }
+  }
+  return j;
+}
+
+StatusOr<EstimatorOptions> OptionsFromJson(const nlohmann::json& json) {
+  if (!json.is_object()) return InvalidArgument("options: expected a JSON object");
+  EstimatorOptions o;
+  const nlohmann::json flat = json.flatten();
+  for (const auto& item : flat.items()) {
+    std::string key = item.key().substr(1);  // "/refine/tukey_m" -> "refine.tukey_m"
+    for (char& c : key)
+      if (c == '/') c = '.';
+    const OptionField* f = FindOptionField(key);
+    if (f == nullptr) return InvalidArgument("options: unknown key '" + key + "'");
+    const nlohmann::json& v = item.value();
+    const auto wrong = [&](const std::string& want) {
+      return InvalidArgument("options: " + key + " must be " + want + ", got " + v.dump());
+    };
+    switch (f->type) {
+      case OptionField::Type::kInt:
+        if (!v.is_number_integer() || v.get<int64_t>() < INT32_MIN || v.get<int64_t>() > INT32_MAX)
+          return wrong("a whole number");
+        *static_cast<int*>(f->at(o)) = v.get<int>();
+        break;
+      case OptionField::Type::kSeed:
+        if (!v.is_number_unsigned()) return wrong("a whole number >= 0");
+        *static_cast<uint64_t*>(f->at(o)) = v.get<uint64_t>();
+        break;
+      case OptionField::Type::kDouble:
+        if (!v.is_number()) return wrong("a number");
+        *static_cast<double*>(f->at(o)) = v.get<double>();
+        break;
+      case OptionField::Type::kBool:
+        if (!v.is_boolean()) return wrong("true or false");
+        *static_cast<bool*>(f->at(o)) = v.get<bool>();
+        break;
+      case OptionField::Type::kEnum:
+        if (!v.is_string() || !f->Parse(v.get<std::string>(), &o)) return wrong(ChoicesText(f->names));
+        break;
+    }
+  }
+  std::string error;
+  if (!o.IsValid(&error)) return InvalidArgument("options: " + error);
+  return o;
 }
 
 nlohmann::json CountersToJson(const EngineCounters& c) {

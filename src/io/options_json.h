@@ -6,13 +6,19 @@
 
 #include "mcpose/estimator.h"
 #include "mcpose/options.h"
+#include "mcpose/status.h"
 #include "mcpose/tracker.h"
 
 namespace mcpose::io {
 
-// {"samples", "max_iterations", "tau", "seed", "init": {...}, "weight": {...}, "resample": {...},
-//  "diffusion": {...}, "engine": {...}}, field names as in options.h.
+// {"samples", "max_iterations", "tau", "seed", "max_instances", "init": {...}, "weight": {...},
+//  "resample": {...}, "diffusion": {...}, "appearance": {...}, "refine": {...}, "engine": {...}}:
+// every field of the options table (mcpose/option_table.h) under its key, numbers and switches
+// as numbers and booleans, enums by name.
 nlohmann::json OptionsToJson(const EstimatorOptions& options);
+// The options of such JSON: each field it names set (the others keep their defaults), then
+// checked (IsValid). Errors name the key: an unknown one, a wrong type, a value out of bounds.
+StatusOr<EstimatorOptions> OptionsFromJson(const nlohmann::json& json);
 nlohmann::json CountersToJson(const EngineCounters& counters);
 // The tracker's fields as in tracker.h, its single-frame options under "estimator".
 nlohmann::json TrackerOptionsToJson(const TrackerOptions& options);

@@ -29,7 +29,7 @@ TEST(EstimatorOptions, EachInvalidFieldIsNamed) {
       {[](EstimatorOptions& o) { o.weight.a = 0.9; }, "sum to 1"},
       {[](EstimatorOptions& o) { o.weight.box_fit = 1.5; }, "weight.box_fit"},
       {[](EstimatorOptions& o) { o.weight.box_fit = NAN; }, "weight.box_fit"},
-      {[](EstimatorOptions& o) { o.weight.c = -0.1, o.weight.a = 0.65; }, "weights"},
+      {[](EstimatorOptions& o) { o.weight.c = -0.1, o.weight.a = 0.65; }, "weight.c"},
       {[](EstimatorOptions& o) { o.resample.keep_top_fraction = 0; }, "keep_top_fraction"},
       {[](EstimatorOptions& o) { o.engine.pixel_stride = 0; }, "pixel_stride"},
       {[](EstimatorOptions& o) { o.engine.pixel_stride = 17; }, "pixel_stride"},
