@@ -28,23 +28,22 @@ void AddEstimatorFlags(CLI::App* cmd, unsigned groups, EstimatorFlags* f) {
       continue;
     }
     const std::string flag = field.flag;
-    void* at = field.at(o);
     switch (field.type) {
       case OptionField::Type::kInt:
-        cmd->add_option(flag, *static_cast<int*>(at), field.doc)->capture_default_str();
+        cmd->add_option(flag, field.Ref<int>(o), field.doc)->capture_default_str();
         break;
       case OptionField::Type::kSeed:
-        cmd->add_option(flag, *static_cast<uint64_t*>(at), field.doc)->check(SeedCheck())->capture_default_str();
+        cmd->add_option(flag, field.Ref<uint64_t>(o), field.doc)->check(SeedCheck())->capture_default_str();
         break;
       case OptionField::Type::kDouble:
-        cmd->add_option(flag, *static_cast<double*>(at), field.doc)->capture_default_str();
+        cmd->add_option(flag, field.Ref<double>(o), field.doc)->capture_default_str();
         break;
       case OptionField::Type::kBool:
         if (field.style == OptionField::Switch::kOnOff) {
           std::string& text = f->text[field.key] = field.Text(o);
           cmd->add_option(flag, text, field.doc)->capture_default_str();
         } else {
-          const CLI::Option* opt = cmd->add_flag(flag + ",!--no-" + flag.substr(2), *static_cast<bool*>(at),
+          const CLI::Option* opt = cmd->add_flag(flag + ",!--no-" + flag.substr(2), field.Ref<bool>(o),
                                                  std::string(field.doc) + " (default " + field.Text(o) + ")");
           if (std::string(field.key).starts_with("engine.")) f->given[field.key] = opt;
         }
@@ -81,7 +80,7 @@ Status EstimatorFlags::Finish() {
   for (const auto& [key, opt] : given)
     if (opt->count() == 0) {
       const OptionField& field = *FindOptionField(key);
-      *static_cast<bool*>(field.at(o)) = *static_cast<bool*>(field.at(usable));
+      field.Ref<bool>(o) = field.Get<bool>(usable);
     }
   if (!simd_target.empty() && !render::LimitSimdTargets(simd_target))
     return InvalidArgument("--simd-target must be one of: " + SimdTargets() + "; got '" + simd_target + "'");

@@ -33,6 +33,17 @@ struct OptionField {
   Switch style = Switch::kPair;
   std::span<const char* const> names;  // kEnum: the names of its values, by value
 
+  // The field in `options` as T, its C++ type: int (kInt, and kEnum's value), uint64_t (kSeed),
+  // double or bool.
+  template <class T>
+  T& Ref(EstimatorOptions& options) const {
+    return *static_cast<T*>(at(options));
+  }
+  template <class T>
+  const T& Get(const EstimatorOptions& options) const {
+    return Ref<T>(const_cast<EstimatorOptions&>(options));  // read only
+  }
+
   // The field's value as the command line and JSON spell it: "620", "0.01", "on", "simd".
   std::string Text(const EstimatorOptions& options) const;
   // Sets the field from that spelling; false (and no change) for a bad one.

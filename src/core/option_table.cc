@@ -226,14 +226,13 @@ std::string OptionTableMarkdown() {
 }
 
 std::string OptionField::Text(const EstimatorOptions& options) const {
-  void* p = at(const_cast<EstimatorOptions&>(options));
   switch (type) {
-    case Type::kInt: return std::to_string(*static_cast<int*>(p));
-    case Type::kSeed: return std::to_string(*static_cast<uint64_t*>(p));
-    case Type::kDouble: return DoubleText(*static_cast<double*>(p));
-    case Type::kBool: return kOnOff[*static_cast<bool*>(p) ? 1 : 0];
+    case Type::kInt: return std::to_string(Get<int>(options));
+    case Type::kSeed: return std::to_string(Get<uint64_t>(options));
+    case Type::kDouble: return DoubleText(Get<double>(options));
+    case Type::kBool: return kOnOff[Get<bool>(options) ? 1 : 0];
     case Type::kEnum: {
-      const int v = *static_cast<int*>(p);
+      const int v = Get<int>(options);
       return v >= 0 && static_cast<size_t>(v) < names.size() ? names[static_cast<size_t>(v)] : "unknown";
     }
   }
@@ -241,7 +240,6 @@ std::string OptionField::Text(const EstimatorOptions& options) const {
 }
 
 bool OptionField::Parse(const std::string& text, EstimatorOptions* options) const {
-  void* p = at(*options);
   const char* begin = text.data();
   const char* end = begin + text.size();
   switch (type) {
@@ -249,7 +247,7 @@ bool OptionField::Parse(const std::string& text, EstimatorOptions* options) cons
       int v = 0;
       const auto [ptr, ec] = std::from_chars(begin, end, v);
       if (text.empty() || ec != std::errc() || ptr != end) return false;
-      *static_cast<int*>(p) = v;
+      Ref<int>(*options) = v;
       return true;
     }
     case Type::kSeed: {
@@ -257,24 +255,24 @@ bool OptionField::Parse(const std::string& text, EstimatorOptions* options) cons
       const auto [ptr, ec] = std::from_chars(begin, end, v);
       if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos || ec != std::errc() || ptr != end)
         return false;
-      *static_cast<uint64_t*>(p) = v;
+      Ref<uint64_t>(*options) = v;
       return true;
     }
     case Type::kDouble: {
       double v = 0;
       const auto [ptr, ec] = std::from_chars(begin, end, v);
       if (text.empty() || ec != std::errc() || ptr != end) return false;
-      *static_cast<double*>(p) = v;
+      Ref<double>(*options) = v;
       return true;
     }
     case Type::kBool:
       if (text != "on" && text != "off") return false;
-      *static_cast<bool*>(p) = text == "on";
+      Ref<bool>(*options) = text == "on";
       return true;
     case Type::kEnum:
       for (size_t i = 0; i < names.size(); ++i)
         if (text == names[i]) {
-          *static_cast<int*>(p) = static_cast<int>(i);
+          Ref<int>(*options) = static_cast<int>(i);
           return true;
         }
       return false;
@@ -293,8 +291,7 @@ std::string OptionField::BoundsText() const {
 
 std::string OptionField::CheckBounds(const EstimatorOptions& options) const {
   if (type != Type::kInt && type != Type::kDouble) return "";
-  void* p = at(const_cast<EstimatorOptions&>(options));
-  const double v = type == Type::kInt ? static_cast<double>(*static_cast<int*>(p)) : *static_cast<double*>(p);
+  const double v = type == Type::kInt ? static_cast<double>(Get<int>(options)) : Get<double>(options);
   const bool ok = std::isfinite(v) && (min_open ? v > min : v >= min) && (max_open ? v < max : v <= max);
   if (ok) return "";
   const std::string unit_text = *unit && std::string(unit) != "pixels" ? std::string(" ") + unit : "";

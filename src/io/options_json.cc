@@ -20,14 +20,13 @@ nlohmann::json::json_pointer Pointer(const char* key) {
 
 nlohmann::json OptionsToJson(const EstimatorOptions& o) {
   nlohmann::json j = nlohmann::json::object();
-  EstimatorOptions& options = const_cast<EstimatorOptions&>(o);  // read through the table's addresses
   for (const OptionField& f : EstimatorOptionFields()) {
     nlohmann::json& v = j[Pointer(f.key)];
     switch (f.type) {
-      case OptionField::Type::kInt: v = *static_cast<int*>(f.at(options)); break;
-      case OptionField::Type::kSeed: v = *static_cast<uint64_t*>(f.at(options)); break;
-      case OptionField::Type::kDouble: v = *static_cast<double*>(f.at(options)); break;
-      case OptionField::Type::kBool: v = *static_cast<bool*>(f.at(options)); break;
+      case OptionField::Type::kInt: v = f.Get<int>(o); break;
+      case OptionField::Type::kSeed: v = f.Get<uint64_t>(o); break;
+      case OptionField::Type::kDouble: v = f.Get<double>(o); break;
+      case OptionField::Type::kBool: v = f.Get<bool>(o); break;
       case OptionField::Type::kEnum: v = f.Text(o); break;
     }
   }
@@ -52,19 +51,19 @@ StatusOr<EstimatorOptions> OptionsFromJson(const nlohmann::json& json) {
       case OptionField::Type::kInt:
         if (!v.is_number_integer() || v.get<int64_t>() < INT32_MIN || v.get<int64_t>() > INT32_MAX)
           return wrong("a whole number");
-        *static_cast<int*>(f->at(o)) = v.get<int>();
+        f->Ref<int>(o) = v.get<int>();
         break;
       case OptionField::Type::kSeed:
         if (!v.is_number_unsigned()) return wrong("a whole number >= 0");
-        *static_cast<uint64_t*>(f->at(o)) = v.get<uint64_t>();
+        f->Ref<uint64_t>(o) = v.get<uint64_t>();
         break;
       case OptionField::Type::kDouble:
         if (!v.is_number()) return wrong("a number");
-        *static_cast<double*>(f->at(o)) = v.get<double>();
+        f->Ref<double>(o) = v.get<double>();
         break;
       case OptionField::Type::kBool:
         if (!v.is_boolean()) return wrong("true or false");
-        *static_cast<bool*>(f->at(o)) = v.get<bool>();
+        f->Ref<bool>(o) = v.get<bool>();
         break;
       case OptionField::Type::kEnum:
         if (!v.is_string() || !f->Parse(v.get<std::string>(), &o)) return wrong(ChoicesText(f->names));
