@@ -172,7 +172,7 @@ TEST(RasterCoresRealData, CountsEqualAWholeBoxRenderForEveryBackendAndLod) {
       const LevelTargets job(chain.level(level), boxes, /*clusters=*/false);
       engine::RasterCores cores(2, backend);
       std::vector<score::InlierCounts> counts(particles.size());
-      render::RasterStats stats;
+      RasterCounters stats;
       cores.Score(job.targets, job.settings, particles, counts, &stats);
       EXPECT_GT(stats.fragments, 0);
 
@@ -269,7 +269,7 @@ TEST(RasterCoresRealData, ClusterCullingGivesTheSameCounts) {
           LevelTargets job(chain.level(level), boxes, /*clusters=*/false);
           engine::RasterCores cores(2, backend);
           std::vector<score::InlierCounts> plain(particles.size()), clustered(particles.size());
-          render::RasterStats plain_stats, clustered_stats;
+          RasterCounters plain_stats, clustered_stats;
           cores.Score(job.targets, job.settings, particles, plain, &plain_stats);
           job.SetClusters(&chain.level(level).clusters);
           cores.Score(job.targets, job.settings, particles, clustered, &clustered_stats);
@@ -277,12 +277,12 @@ TEST(RasterCoresRealData, ClusterCullingGivesTheSameCounts) {
           EXPECT_GT(clustered_stats.clusters, 0);
           EXPECT_LE(std::abs(clustered_stats.fragments - plain_stats.fragments), 1e-5 * plain_stats.fragments);
           EXPECT_LE(clustered_stats.fragments, plain_stats.fragments);
-          EXPECT_EQ(clustered_stats.triangles, plain_stats.triangles);
+          EXPECT_EQ(clustered_stats.triangles_in, plain_stats.triangles_in);
           dropped_clusters += clustered_stats.clusters_culled_backface + clustered_stats.clusters_culled_outside_box;
           // Batched setup (the default above) against the per-triangle setup: identical.
           job.settings.batched_setup = false;
           std::vector<score::InlierCounts> per_triangle(particles.size());
-          render::RasterStats per_triangle_stats;
+          RasterCounters per_triangle_stats;
           cores.Score(job.targets, job.settings, particles, per_triangle, &per_triangle_stats);
           EXPECT_EQ(per_triangle, clustered) << "obj " << obj_id << " stride " << stride << " level " << level;
           EXPECT_EQ(per_triangle_stats, clustered_stats) << "obj " << obj_id << " level " << level;
@@ -291,14 +291,14 @@ TEST(RasterCoresRealData, ClusterCullingGivesTheSameCounts) {
           if (level + 1 == chain.num_levels()) {
             job.settings.batched_setup = true, job.settings.cull_backfaces = false;
             std::vector<score::InlierCounts> both_plain(particles.size()), both_clustered(particles.size());
-            render::RasterStats both_plain_stats, both_clustered_stats;
+            RasterCounters both_plain_stats, both_clustered_stats;
             cores.Score(job.targets, job.settings, particles, both_clustered, &both_clustered_stats);
             job.SetClusters(nullptr);
             cores.Score(job.targets, job.settings, particles, both_plain, &both_plain_stats);
             EXPECT_EQ(both_clustered, both_plain) << "obj " << obj_id << " stride " << stride;
             EXPECT_EQ(both_clustered_stats.clusters_culled_backface, 0);
             EXPECT_EQ(both_clustered_stats.culled_backface, 0);
-            EXPECT_GT(both_clustered_stats.rasterized, plain_stats.rasterized);
+            EXPECT_GT(both_clustered_stats.triangles_rasterized, plain_stats.triangles_rasterized);
             EXPECT_EQ(both_clustered_stats.fragments, both_plain_stats.fragments);
           }
         }
@@ -355,7 +355,7 @@ TEST(RasterCoresRealData, NarrowBoxesCountAsTheFixedPointCore) {
       const int level = engine::SelectLodLevel(chain, K, *o.mesh, d, boxes[0], EstimatorOptions{});
       const LevelTargets job(chain.level(level), boxes, /*clusters=*/true);
       std::vector<score::InlierCounts> fixed(particles.size()), simd(particles.size());
-      render::RasterStats fixed_stats, simd_stats;
+      RasterCounters fixed_stats, simd_stats;
       engine::RasterCores(1, RasterBackend::kFixedPoint).Score(job.targets, job.settings, particles, fixed, &fixed_stats);
       engine::RasterCores(2, RasterBackend::kSimd).Score(job.targets, job.settings, particles, simd, &simd_stats);
       ASSERT_EQ(simd, fixed) << "stride " << stride << " width " << width;

@@ -1,8 +1,9 @@
 // Shared pieces of the raster-core tests: the camera and box the unit tests render through,
-// and readable gtest output for RasterStats.
+// and readable gtest output for RasterCounters.
 #pragma once
 
 #include <ostream>
+#include <utility>
 
 #include "render/raster.h"
 
@@ -17,13 +18,17 @@ inline RasterParams TestRasterParams(bool cull) {
   return p;
 }
 
-// gtest prints RasterStats field by field (EXPECT_EQ on two of them).
-inline void PrintTo(const RasterStats& s, std::ostream* os) {
-  *os << "{triangles " << s.triangles << ", near " << s.culled_near << ", degenerate " << s.culled_degenerate
-      << ", backface " << s.culled_backface << ", outside " << s.culled_outside_box << ", between "
-      << s.culled_between_pixels << ", rasterized " << s.rasterized << ", fragments " << s.fragments
-      << ", clusters " << s.clusters << " (backface " << s.clusters_culled_backface << ", outside "
-      << s.clusters_culled_outside_box << ")}";
+}  // namespace mcpose::render
+
+namespace mcpose {
+
+// gtest prints RasterCounters field by field (EXPECT_EQ on two of them).
+inline void PrintTo(const RasterCounters& s, std::ostream* os) {
+  const char* sep = "{";
+#define MCPOSE_PRINT_COUNTER(name, doc) *os << std::exchange(sep, ", ") << #name " " << s.name;
+  MCPOSE_RASTER_COUNTERS(MCPOSE_PRINT_COUNTER)
+#undef MCPOSE_PRINT_COUNTER
+  *os << "}";
 }
 
-}  // namespace mcpose::render
+}  // namespace mcpose

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "mcpose/camera.h"
+#include "mcpose/counters.h"
 #include "mcpose/detection.h"
 #include "mcpose/image.h"
 #include "mcpose/mesh.h"
@@ -15,27 +16,6 @@
 #include "mcpose/status.h"
 
 namespace mcpose {
-
-// What the engine did: each triangle's fate in the raster cores and the resampler's reads.
-// Every triangle submitted has exactly one fate: culled for one reason, or rasterized.
-struct EngineCounters {
-  int64_t triangles_full = 0;          // triangles the full mesh would have submitted
-  int64_t triangles_in = 0;            // triangles submitted (after the LOD choice)
-  int64_t culled_backface = 0;
-  int64_t culled_degenerate = 0;
-  int64_t culled_outside_box = 0;      // misses the sample's box
-  int64_t culled_near = 0;             // a vertex behind the near plane
-  int64_t culled_between_pixels = 0;   // covers no pixel centre
-  int64_t triangles_rasterized = 0;    // covered at least one pixel centre
-  int64_t fragments = 0;               // pixel centres covered (before the depth test)
-  int64_t clusters = 0;                // culling clusters tested (cluster_culling)
-  int64_t clusters_culled_backface = 0;     // dropped whole: facing away
-  int64_t clusters_culled_outside_box = 0;  // dropped whole: outside the box
-  int64_t cdf_draws = 0;               // resampling draws
-  int64_t cdf_reads = 0;               // CDF and table entries those draws read
-
-  EngineCounters& operator+=(const EngineCounters& o);
-};
 
 // One iteration of the filter (one scored generation of samples).
 struct IterationSummary {

@@ -61,7 +61,7 @@ class Backend {
   // box.observed->rect sized) and counts the inliers against its observed depth. Adds to *stats.
   virtual score::InlierCounts ScoreSample(const BoxTarget& box, const Eigen::Matrix3f& R, const Eigen::Vector3f& t,
                                           const SampleSettings& settings, Scratch* scratch,
-                                          render::RasterStats* stats) const = 0;
+                                          RasterCounters* stats) const = 0;
 };
 
 // The backend of `kind` (registry.cc).

@@ -49,7 +49,7 @@ Scene MakeScene(int n, InlierMode mode, uint64_t seed) {
 
 std::vector<score::InlierCounts> Score(RasterBackend backend, int threads, std::span<const BoxTarget> targets,
                                        const SampleSettings& settings, const filter::ParticleSet& particles,
-                                       render::RasterStats* stats = nullptr) {
+                                       RasterCounters* stats = nullptr) {
   engine::RasterCores cores(threads, backend);
   std::vector<score::InlierCounts> counts(particles.size());
   cores.Score(targets, settings, particles, counts, stats);
@@ -65,13 +65,13 @@ TEST(Backends, EachMatchesItsReferenceOnRandomPosesAtAnyThreadCount) {
       settings.inlier_mode = mode;
       settings.cull_backfaces = cull;
       settings.batched_setup = false;
-      render::RasterStats ref_stats;
+      RasterCounters ref_stats;
       const auto reference = Score(RasterBackend::kScalar, 1, targets, settings, s.particles, &ref_stats);
       int64_t rendered = 0, diff = 0;
       for (const auto& c : reference) rendered += c.rendered;
       ASSERT_GT(rendered, 1000);
       for (int threads : {1, 2, 3}) {
-        render::RasterStats float_stats;
+        RasterCounters float_stats;
         EXPECT_EQ(Score(RasterBackend::kFloatSimd, threads, targets, settings, s.particles, &float_stats), reference);
         EXPECT_EQ(float_stats, ref_stats);
         const auto fixed = Score(RasterBackend::kFixedPoint, threads, targets, settings, s.particles);
@@ -99,12 +99,12 @@ TEST(Backends, ClusterCullingKeepsTheFixedPointCounts) {
                                             {&s.boxes[1], &level.mesh, &level.clusters}};
   for (RasterBackend backend : {RasterBackend::kFixedPoint, RasterBackend::kSimd}) {
     SampleSettings settings;
-    render::RasterStats plain_stats, clustered_stats;
+    RasterCounters plain_stats, clustered_stats;
     const auto a = Score(backend, 2, plain, settings, s.particles, &plain_stats);
     const auto b = Score(backend, 2, clustered, settings, s.particles, &clustered_stats);
     EXPECT_EQ(a, b) << RasterBackendName(backend);
     EXPECT_GT(clustered_stats.clusters_culled_backface + clustered_stats.clusters_culled_outside_box, 0);
-    EXPECT_EQ(clustered_stats.triangles, plain_stats.triangles);
+    EXPECT_EQ(clustered_stats.triangles_in, plain_stats.triangles_in);
   }
 }
 

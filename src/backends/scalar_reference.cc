@@ -13,7 +13,7 @@ class ScalarReference final : public Backend {
 
   score::InlierCounts ScoreSample(const BoxTarget& box, const Eigen::Matrix3f& R, const Eigen::Vector3f& t,
                                   const SampleSettings& settings, Scratch* s,
-                                  render::RasterStats* stats) const override {
+                                  RasterCounters* stats) const override {
     const score::BoxObservation& obs = *box.observed;
     const render::RasterParams params = score::BoxRasterParams(obs, settings.cull_backfaces);
     const std::span<render::ScreenVertex> vertices = steps::Prepare(box, s);

@@ -129,20 +129,10 @@ int64_t BoxScorer::depth_pixels_read() const {
 
 void BoxScorer::Count(const filter::ParticleSet& particles, std::span<score::InlierCounts> counts,
                       EngineCounters* counters) {
-  render::RasterStats stats;
+  RasterCounters stats;
   context_->cores().Score(targets_, settings_, particles, counts, &stats);
   counters->triangles_full += static_cast<int64_t>(mesh_->triangles.size()) * static_cast<int64_t>(particles.size());
-  counters->triangles_in += stats.triangles;
-  counters->culled_backface += stats.culled_backface;
-  counters->culled_degenerate += stats.culled_degenerate;
-  counters->culled_outside_box += stats.culled_outside_box;
-  counters->culled_near += stats.culled_near;
-  counters->culled_between_pixels += stats.culled_between_pixels;
-  counters->triangles_rasterized += stats.rasterized;
-  counters->fragments += stats.fragments;
-  counters->clusters += stats.clusters;
-  counters->clusters_culled_backface += stats.clusters_culled_backface;
-  counters->clusters_culled_outside_box += stats.clusters_culled_outside_box;
+  *counters += stats;
 }
 
 void BoxScorer::Weigh(filter::ParticleSet* particles, EngineCounters* counters, double colour_weight) {

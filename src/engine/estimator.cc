@@ -5,24 +5,6 @@
 
 namespace mcpose {
 
-EngineCounters& EngineCounters::operator+=(const EngineCounters& o) {
-  triangles_full += o.triangles_full;
-  triangles_in += o.triangles_in;
-  culled_backface += o.culled_backface;
-  culled_degenerate += o.culled_degenerate;
-  culled_outside_box += o.culled_outside_box;
-  culled_near += o.culled_near;
-  culled_between_pixels += o.culled_between_pixels;
-  triangles_rasterized += o.triangles_rasterized;
-  fragments += o.fragments;
-  clusters += o.clusters;
-  clusters_culled_backface += o.clusters_culled_backface;
-  clusters_culled_outside_box += o.clusters_culled_outside_box;
-  cdf_draws += o.cdf_draws;
-  cdf_reads += o.cdf_reads;
-  return *this;
-}
-
 EngineCounters ObjectEstimate::Totals() const {
   EngineCounters total;
   for (const IterationSummary& it : iterations) total += it.counters;

@@ -11,9 +11,9 @@ RasterCores::~RasterCores() = default;
 
 void RasterCores::Score(std::span<const backends::BoxTarget> boxes, const backends::SampleSettings& settings,
                         const filter::ParticleSet& particles, std::span<score::InlierCounts> counts,
-                        render::RasterStats* stats) {
+                        RasterCounters* stats) {
   MCPOSE_CHECK_EQ(counts.size(), particles.size());
-  for (Core& core : cores_) core.stats = render::RasterStats{};
+  for (Core& core : cores_) core.stats = RasterCounters{};
   const backends::Backend& backend = *backend_;  // chosen once for the batch
   pool_.ParallelFor(
       static_cast<int64_t>(particles.size()),

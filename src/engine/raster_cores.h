@@ -28,12 +28,12 @@ class RasterCores {
   // raster statistics of the batch to *stats (when given).
   void Score(std::span<const backends::BoxTarget> boxes, const backends::SampleSettings& settings,
              const filter::ParticleSet& particles, std::span<score::InlierCounts> counts,
-             render::RasterStats* stats);
+             RasterCounters* stats);
 
  private:
   struct Core {
     backends::Scratch scratch;
-    render::RasterStats stats;
+    RasterCounters stats;
   };
   ThreadPool pool_;
   std::unique_ptr<backends::Backend> backend_;

@@ -96,7 +96,7 @@ void BM_ScoreIteration(benchmark::State& state) {
   backends::SampleSettings settings;
   settings.batched_setup = IsFixedPoint(backend);
   std::vector<score::InlierCounts> counts(w.particles.size());
-  render::RasterStats stats;
+  RasterCounters stats;
   for (auto _ : state) {
     cores.Score(std::span(&box, 1), settings, w.particles, counts, &stats);
     benchmark::DoNotOptimize(counts.data());
@@ -152,7 +152,7 @@ void BM_TriangleSetup(benchmark::State& state) {
     pool.ParallelFor(static_cast<int64_t>(n), [&](int64_t b, int64_t e, int worker) {
       render::FixedTriangle ft;
       render::SnappedVertices& sv = snapped[static_cast<size_t>(worker)];
-      render::RasterStats stats;
+      RasterCounters stats;
       int64_t k = 0;
       for (int64_t i = b; i < e; ++i) {
         const render::ScreenVertex* v = projected.data() + i * nv;

@@ -76,20 +76,11 @@ StatusOr<EstimatorOptions> OptionsFromJson(const nlohmann::json& json) {
 }
 
 nlohmann::json CountersToJson(const EngineCounters& c) {
-  return {{"triangles_full", c.triangles_full},
-          {"triangles_in", c.triangles_in},
-          {"culled_backface", c.culled_backface},
-          {"culled_degenerate", c.culled_degenerate},
-          {"culled_outside_box", c.culled_outside_box},
-          {"culled_near", c.culled_near},
-          {"culled_between_pixels", c.culled_between_pixels},
-          {"triangles_rasterized", c.triangles_rasterized},
-          {"fragments", c.fragments},
-          {"clusters", c.clusters},
-          {"clusters_culled_backface", c.clusters_culled_backface},
-          {"clusters_culled_outside_box", c.clusters_culled_outside_box},
-          {"cdf_draws", c.cdf_draws},
-          {"cdf_reads", c.cdf_reads}};
+  nlohmann::json j = nlohmann::json::object();
+#define MCPOSE_COUNTER_JSON(name, doc) j[#name] = c.name;
+  MCPOSE_ENGINE_COUNTERS(MCPOSE_COUNTER_JSON)
+#undef MCPOSE_COUNTER_JSON
+  return j;
 }
 
 nlohmann::json TrackerOptionsToJson(const TrackerOptions& t) {

@@ -129,7 +129,7 @@ ClusterCull CullCluster(const Cluster& c, const Eigen::Matrix3f& R, const Eigen:
 
 std::span<const std::array<uint32_t, 3>> KeptTriangles(const ClusterSet& set, const ClusterCull* culls,
                                                        std::vector<std::array<uint32_t, 3>>* scratch,
-                                                       RasterStats* stats) {
+                                                       RasterCounters* stats) {
   // Runs of adjacent kept clusters are referenced in place, and copied out together only when
   // a dropped cluster splits them.
   const std::span<const std::array<uint32_t, 3>> all(set.triangles);
@@ -154,7 +154,7 @@ std::span<const std::array<uint32_t, 3>> KeptTriangles(const ClusterSet& set, co
         run_end = c.first + c.count;
         continue;
     }
-    stats->triangles += c.count;
+    stats->triangles_in += c.count;
   }
   stats->clusters += static_cast<int64_t>(set.clusters.size());
   std::span<const std::array<uint32_t, 3>> kept = all.subspan(run_first, run_end - run_first);

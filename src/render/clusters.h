@@ -76,6 +76,6 @@ void CullClustersSimd(const ClusterSet& set, const Eigen::Matrix3f& R, const Eig
 // in `triangles`, the triangles submitted) and the clusters tested in *stats.
 std::span<const std::array<uint32_t, 3>> KeptTriangles(const ClusterSet& set, const ClusterCull* culls,
                                                        std::vector<std::array<uint32_t, 3>>* scratch,
-                                                       RasterStats* stats);
+                                                       RasterCounters* stats);
 
 }  // namespace mcpose::render

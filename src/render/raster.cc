@@ -5,21 +5,6 @@
 
 namespace mcpose::render {
 
-RasterStats& RasterStats::operator+=(const RasterStats& o) {
-  triangles += o.triangles;
-  culled_near += o.culled_near;
-  culled_degenerate += o.culled_degenerate;
-  culled_backface += o.culled_backface;
-  culled_outside_box += o.culled_outside_box;
-  culled_between_pixels += o.culled_between_pixels;
-  rasterized += o.rasterized;
-  fragments += o.fragments;
-  clusters += o.clusters;
-  clusters_culled_backface += o.clusters_culled_backface;
-  clusters_culled_outside_box += o.clusters_culled_outside_box;
-  return *this;
-}
-
 void ProjectVertices(std::span<const Eigen::Vector3f> vertices_m, const Eigen::Matrix3f& R,
                      const Eigen::Vector3f& t, const RasterParams& params,
                      std::span<ScreenVertex> out) {
@@ -81,11 +66,11 @@ inline bool IsTopLeft(float ax, float ay, float bx, float by) {
 
 void RasterizeDepthReference(std::span<const ScreenVertex> vertices,
                              std::span<const std::array<uint32_t, 3>> triangles,
-                             const RasterParams& params, float* zbuf, RasterStats* stats) {
+                             const RasterParams& params, float* zbuf, RasterCounters* stats) {
   const PixelRect& box = params.box;
   const int stride = box.width();
-  RasterStats s;
-  s.triangles = static_cast<int64_t>(triangles.size());
+  RasterCounters s;
+  s.triangles_in = static_cast<int64_t>(triangles.size());
   for (const auto& tri : triangles) {
     ScreenVertex a = vertices[tri[0]], b = vertices[tri[1]], c = vertices[tri[2]];
 
@@ -156,7 +141,7 @@ void RasterizeDepthReference(std::span<const ScreenVertex> vertices,
     if (covered == 0) {
       ++s.culled_between_pixels;
     } else {
-      ++s.rasterized;
+      ++s.triangles_rasterized;
       s.fragments += covered;
     }
   }

@@ -15,6 +15,8 @@
 
 #include <Eigen/Core>
 
+#include "mcpose/counters.h"
+
 namespace mcpose::render {
 
 // Half-open pixel rectangle [x0, x1) x [y0, y1).
@@ -31,27 +33,6 @@ struct RasterParams {
   PixelRect box;               // render only inside this box
   float z_near_m = 0.05f;      // triangles with a vertex closer than this are culled
   bool cull_backfaces = true;
-};
-
-// Why each triangle did or did not reach the z-buffer. Sum of the cull counts plus
-// `rasterized` equals `triangles`.
-struct RasterStats {
-  int64_t triangles = 0;
-  int64_t culled_near = 0;
-  int64_t culled_degenerate = 0;
-  int64_t culled_backface = 0;
-  int64_t culled_outside_box = 0;
-  int64_t culled_between_pixels = 0;
-  int64_t rasterized = 0;
-  int64_t fragments = 0;  // covered pixel centres, before the depth test
-  // Cluster culling (render/clusters.h), when used: clusters tested, and those dropped whole
-  // (their triangles are counted in culled_backface / culled_outside_box above).
-  int64_t clusters = 0;
-  int64_t clusters_culled_backface = 0;
-  int64_t clusters_culled_outside_box = 0;
-
-  RasterStats& operator+=(const RasterStats& o);
-  bool operator==(const RasterStats&) const = default;
 };
 
 // A vertex after the camera transform: pixel coordinates and camera depth.
@@ -85,7 +66,7 @@ PixelRect CoverBoundSimd(std::span<const ScreenVertex> vertices, const PixelRect
 // covers keep it. Adds to *stats.
 void RasterizeDepthReference(std::span<const ScreenVertex> vertices,
                              std::span<const std::array<uint32_t, 3>> triangles,
-                             const RasterParams& params, float* zbuf, RasterStats* stats);
+                             const RasterParams& params, float* zbuf, RasterCounters* stats);
 
 // Slack (floats) the SIMD kernels need after the last z-buffer pixel: the widest vector.
 inline constexpr size_t kSimdPadFloats = 64;
@@ -98,6 +79,6 @@ inline constexpr size_t kSimdPadFloats = 64;
 // unchanged).
 void RasterizeDepthFloatSimd(std::span<const ScreenVertex> vertices,
                              std::span<const std::array<uint32_t, 3>> triangles,
-                             const RasterParams& params, float* zbuf, RasterStats* stats);
+                             const RasterParams& params, float* zbuf, RasterCounters* stats);
 
 }  // namespace mcpose::render

@@ -159,17 +159,17 @@ TriangleSetup SetupBatchedTriangle(std::span<const ScreenVertex> vertices, const
 namespace {
 
 // A triangle's covered pixel count, counted in *s.
-inline void CountFill(int64_t covered, RasterStats* s) {
+inline void CountFill(int64_t covered, RasterCounters* s) {
   if (covered == 0) {
     ++s->culled_between_pixels;
   } else {
-    ++s->rasterized;
+    ++s->triangles_rasterized;
     s->fragments += covered;
   }
 }
 
 // The rows of one set-up triangle, counted in *s.
-inline void FillOne(const FixedTriangle& ft, float* zbuf, int stride, RowKernel rows, RasterStats* s) {
+inline void FillOne(const FixedTriangle& ft, float* zbuf, int stride, RowKernel rows, RasterCounters* s) {
   // Walk the bounding box a vector of pixels at a time where the edge functions fit in 32 bits
   // (render/raster_simd.cc); both kernels give bit-identical results.
   const bool simd = rows == RowKernel::kSimd && ft.simd_fits;
@@ -180,7 +180,7 @@ inline void FillOne(const FixedTriangle& ft, float* zbuf, int stride, RowKernel 
 // With `packed` (SnapVertices), the batched setup's per-triangle stage.
 inline void RasterizeOne(std::span<const ScreenVertex> vertices, std::span<const std::array<uint32_t, 3>> triangles,
                          size_t t, const RasterParams& params, float* zbuf, int stride, RowKernel rows,
-                         RasterStats* s, const int32_t* packed = nullptr) {
+                         RasterCounters* s, const int32_t* packed = nullptr) {
   const auto& tri = triangles[t];
   FixedTriangle ft;
   const TriangleSetup setup =
@@ -194,7 +194,7 @@ inline void RasterizeOne(std::span<const ScreenVertex> vertices, std::span<const
     case TriangleSetup::kCulledBetweenPixels: ++s->culled_between_pixels; return;
     case TriangleSetup::kFloatPath:
       RasterizeDepthReference(vertices, triangles.subspan(t, 1), params, zbuf, s);
-      --s->triangles;  // counted once by the caller
+      --s->triangles_in;  // counted once by the caller
       return;
     case TriangleSetup::kReady: break;
   }
@@ -205,10 +205,10 @@ inline void RasterizeOne(std::span<const ScreenVertex> vertices, std::span<const
 
 void RasterizeDepthFixedPoint(std::span<const ScreenVertex> vertices,
                               std::span<const std::array<uint32_t, 3>> triangles, const RasterParams& params,
-                              float* zbuf, RasterStats* stats, RowKernel rows, SnappedVertices* snapped) {
+                              float* zbuf, RasterCounters* stats, RowKernel rows, SnappedVertices* snapped) {
   const int stride = params.box.width();
-  RasterStats s;
-  s.triangles = static_cast<int64_t>(triangles.size());
+  RasterCounters s;
+  s.triangles_in = static_cast<int64_t>(triangles.size());
   if (snapped) {
     const size_t kept = ClassifyTriangles(*snapped, triangles, params, &s, &snapped->survivors);
     snapped->setups.resize(std::max(snapped->setups.size(), kept));

@@ -95,7 +95,7 @@ int64_t FillCompactSimd(const CompactTriangle& t, float* zbuf, int stride);
 // FillCompactSimd of every t[j] with ready[j] != 0, in one dispatch; each counted in *stats as
 // rasterized (with its fragments) or, covering no pixel centre, culled between pixels.
 void FillCompactBatchSimd(const CompactTriangle* t, const uint8_t* ready, size_t n, float* zbuf, int stride,
-                          RasterStats* stats);
+                          RasterCounters* stats);
 // Sets the pixels of `rect` (box-relative, row stride `stride`) to +infinity, whole vectors
 // at a time (Highway, runtime-dispatched); touches nothing outside the rect.
 void ClearDepthRectSimd(float* zbuf, int stride, const PixelRect& rect);
@@ -139,7 +139,7 @@ inline int32_t SnappedY(int32_t packed) { return static_cast<int16_t>(packed & 0
 // (front-facing ones that reach a pixel centre; degenerate, nearly degenerate, near-plane and
 // deferred ones) to (*survivors)[0, returned count), in increasing order.
 size_t ClassifyTriangles(const SnappedVertices& snapped, std::span<const std::array<uint32_t, 3>> triangles,
-                         const RasterParams& params, RasterStats* stats, std::vector<uint32_t>* survivors);
+                         const RasterParams& params, RasterCounters* stats, std::vector<uint32_t>* survivors);
 
 // The per-triangle stage of the batched setup, for ClassifyTriangles' survivors: unpacks the
 // snapped vertices into SetupSnappedTriangle, or (a deferred vertex) runs SetupFixedTriangle.
@@ -161,7 +161,7 @@ void SetupSurvivors(const SnappedVertices& snapped, std::span<const ScreenVertex
 // setup (triangle order does not change a z-buffer of minima or the counts).
 void RasterizeDepthFixedPoint(std::span<const ScreenVertex> vertices,
                               std::span<const std::array<uint32_t, 3>> triangles,
-                              const RasterParams& params, float* zbuf, RasterStats* stats,
+                              const RasterParams& params, float* zbuf, RasterCounters* stats,
                               RowKernel rows = RowKernel::kScalar, SnappedVertices* snapped = nullptr);
 // With RowKernel::kSimd, zbuf must have kSimdPadFloats of slack after the box.
 

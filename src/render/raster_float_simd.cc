@@ -166,7 +166,7 @@ HWY_INLINE LaneCounts<hn::ScalableTag<float>> FillFloatTriangle(const FloatTrian
 // The classification of the reference, a vector of triangles at a time, then the rows of the
 // triangles that reach them. `n` is a multiple of the lane count; uvz holds u, v, z per vertex.
 void RasterizeFloatImpl(const float* uvz, const uint32_t* tri, size_t n, const RasterParams& p, float* zbuf,
-                        RasterStats* stats) {
+                        RasterCounters* stats) {
   const hn::ScalableTag<float> df;
   const hn::RebindToSigned<decltype(df)> di;
   using VI = hn::Vec<decltype(di)>;
@@ -187,7 +187,7 @@ void RasterizeFloatImpl(const float* uvz, const uint32_t* tri, size_t n, const R
 
   HWY_ALIGN float lane_f[10][kMaxLanes];
   HWY_ALIGN int32_t lane_i[7][kMaxLanes];
-  RasterStats s;
+  RasterCounters s;
   for (size_t first = 0; first < n; first += lanes) {
     VI i0, i1, i2;
     hn::LoadInterleaved3(di, tri_i + 3 * first, i0, i1, i2);
@@ -228,7 +228,7 @@ void RasterizeFloatImpl(const float* uvz, const uint32_t* tri, size_t n, const R
     const auto empty = hn::RebindMask(df, hn::Or(hn::Gt(x_lo, x_hi), hn::Gt(y_lo, y_hi)));
     const auto live = hn::AndNot(empty, alive);
 
-    s.triangles += static_cast<int64_t>(lanes);
+    s.triangles_in += static_cast<int64_t>(lanes);
     s.culled_near += static_cast<int64_t>(hn::CountTrue(df, near));
     s.culled_degenerate += static_cast<int64_t>(hn::CountTrue(df, degenerate));
     s.culled_backface += static_cast<int64_t>(hn::CountTrue(df, backface));
@@ -269,7 +269,7 @@ void RasterizeFloatImpl(const float* uvz, const uint32_t* tri, size_t n, const R
       covered_lanes = hn::Add(covered_lanes, covered);
     }
     s.culled_between_pixels += between;
-    s.rasterized += filled - between;
+    s.triangles_rasterized += filled - between;
     s.fragments += hn::GetLane(hn::SumOfLanes(di, covered_lanes));
   }
   *stats += s;
@@ -289,9 +289,9 @@ HWY_EXPORT(LaneCount);
 
 void RasterizeDepthFloatSimd(std::span<const ScreenVertex> vertices,
                              std::span<const std::array<uint32_t, 3>> triangles, const RasterParams& params,
-                             float* zbuf, RasterStats* stats) {
+                             float* zbuf, RasterCounters* stats) {
   static_assert(sizeof(ScreenVertex) == 3 * sizeof(float) && sizeof(std::array<uint32_t, 3>) == 3 * sizeof(uint32_t));
-  RasterStats s;
+  RasterCounters s;
   // Whole vectors of triangles here, the few left over (and every triangle of an empty box)
   // by the reference itself.
   const size_t lanes = HWY_DYNAMIC_DISPATCH(LaneCount)();

@@ -74,7 +74,7 @@ TEST(RasterFloatSimd, BitIdenticalToTheReferenceOnEveryTarget) {
     hwy::SetSupportedTargetsForTest(target);
     std::mt19937_64 gen(17);
     std::uniform_real_distribution<float> background(0.6f, 1.4f);
-    RasterStats total;
+    RasterCounters total;
     for (int trial = 0; trial < 120; ++trial) {
       RasterParams p = TestRasterParams(trial % 2 == 0);
       p.box = boxes[trial % std::size(boxes)];
@@ -86,7 +86,7 @@ TEST(RasterFloatSimd, BitIdenticalToTheReferenceOnEveryTarget) {
       if (trial % 4 < 2)
         for (size_t i = 0; i < static_cast<size_t>(p.box.area()); ++i) z_ref[i] = background(gen);
       std::vector<float> z_simd = z_ref;
-      RasterStats st_ref, st_simd;
+      RasterCounters st_ref, st_simd;
       RasterizeDepthReference(v, tris, p, z_ref.data(), &st_ref);
       RasterizeDepthFloatSimd(v, tris, p, z_simd.data(), &st_simd);
       ASSERT_EQ(st_simd, st_ref) << hwy::TargetName(target) << " trial " << trial;
@@ -100,7 +100,7 @@ TEST(RasterFloatSimd, BitIdenticalToTheReferenceOnEveryTarget) {
     EXPECT_GT(total.culled_backface, 1000);
     EXPECT_GT(total.culled_outside_box, 1000);
     EXPECT_GT(total.culled_between_pixels, 100);
-    EXPECT_GT(total.rasterized, 1000);
+    EXPECT_GT(total.triangles_rasterized, 1000);
     EXPECT_GT(total.fragments, 100000);
   }
   hwy::SetSupportedTargetsForTest(0);
@@ -121,7 +121,7 @@ TEST(RasterFloatSimd, LargeTrianglesBitIdenticalOnEveryTarget) {
   for (int64_t target : hwy::SupportedAndGeneratedTargets()) {
     hwy::SetSupportedTargetsForTest(target);
     std::vector<float> z_ref(static_cast<size_t>(p.box.area()) + kSimdPadFloats, INFINITY), z_simd = z_ref;
-    RasterStats st_ref, st_simd;
+    RasterCounters st_ref, st_simd;
     RasterizeDepthReference(v, tris, p, z_ref.data(), &st_ref);
     RasterizeDepthFloatSimd(v, tris, p, z_simd.data(), &st_simd);
     EXPECT_GT(st_ref.fragments, 1000000);

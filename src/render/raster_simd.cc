@@ -260,7 +260,7 @@ const char* TargetNameImpl() { return hwy::TargetName(HWY_TARGET); }
 // lane and are summed every 256 triangles (no lane reaches 2^31), a triangle that covers
 // nothing found by comparing its lanes with zero.
 void FillBatch(const CompactTriangle* t, const uint8_t* ready, size_t n, float* zbuf, int stride,
-               RasterStats* stats) {
+               RasterCounters* stats) {
   const hn::ScalableTag<int32_t> di;
   const auto zero = hn::Zero(di);
   auto lanes = zero;
@@ -273,7 +273,7 @@ void FillBatch(const CompactTriangle* t, const uint8_t* ready, size_t n, float* 
     if (++filled % 256 == 0) fragments += hn::GetLane(hn::SumOfLanes(di, lanes)), lanes = zero;
   }
   fragments += hn::GetLane(hn::SumOfLanes(di, lanes));
-  stats->rasterized += filled - between;
+  stats->triangles_rasterized += filled - between;
   stats->culled_between_pixels += between;
   stats->fragments += fragments;
 }
@@ -310,7 +310,7 @@ int64_t FillCompactSimd(const CompactTriangle& t, float* zbuf, int stride) {
 HWY_EXPORT(FillBatch);
 
 void FillCompactBatchSimd(const CompactTriangle* t, const uint8_t* ready, size_t n, float* zbuf, int stride,
-                          RasterStats* stats) {
+                          RasterCounters* stats) {
   if (n == 0) return;
   HWY_DYNAMIC_DISPATCH(FillBatch)(t, ready, n, zbuf, stride, stats);
 }

@@ -83,7 +83,7 @@ TEST_P(RasterVsBruteForce, CoverageAndDepthMatchOnRandomTriangles) {
     std::vector<ScreenVertex> sv(s.vertices.size());
     ProjectVertices(s.vertices, Eigen::Matrix3f::Identity(), Eigen::Vector3f::Zero(), p, sv);
     std::vector<float> zbuf(p.box.area(), INFINITY);
-    RasterStats stats;
+    RasterCounters stats;
     RasterizeDepthReference(sv, s.triangles, p, zbuf.data(), &stats);
 
     std::vector<float> z_ref;
@@ -103,10 +103,10 @@ TEST_P(RasterVsBruteForce, CoverageAndDepthMatchOnRandomTriangles) {
     EXPECT_GT(compared, static_cast<int>(zbuf.size()) * 9 / 10);
 
     // Every triangle has exactly one fate.
-    EXPECT_EQ(stats.triangles, 60);
+    EXPECT_EQ(stats.triangles_in, 60);
     EXPECT_EQ(stats.culled_near + stats.culled_degenerate + stats.culled_backface +
-                  stats.culled_outside_box + stats.culled_between_pixels + stats.rasterized,
-              stats.triangles);
+                  stats.culled_outside_box + stats.culled_between_pixels + stats.triangles_rasterized,
+              stats.triangles_in);
     if (!cull) {
       EXPECT_EQ(stats.culled_backface, 0);
     }
@@ -127,9 +127,9 @@ TEST(Raster, SharedEdgesCoverEachPixelOnce) {
   std::vector<ScreenVertex> sv(4);
   ProjectVertices(s.vertices, Eigen::Matrix3f::Identity(), Eigen::Vector3f::Zero(), p, sv);
   std::vector<float> zbuf(p.box.area(), INFINITY);
-  RasterStats stats;
+  RasterCounters stats;
   RasterizeDepthReference(sv, s.triangles, p, zbuf.data(), &stats);
-  EXPECT_EQ(stats.rasterized, 2);
+  EXPECT_EQ(stats.triangles_rasterized, 2);
   // The square spans u, v in [250, 350] x [190, 290]: centres 250..349 (top-left rule) = 100 x 100.
   EXPECT_EQ(stats.fragments, 100 * 100);
 }
@@ -142,11 +142,11 @@ TEST(Raster, BackfacesAreCulledAndNearPlaneTrianglesDropped) {
   std::vector<ScreenVertex> sv(4);
   ProjectVertices(s.vertices, Eigen::Matrix3f::Identity(), Eigen::Vector3f::Zero(), p, sv);
   std::vector<float> zbuf(p.box.area(), INFINITY);
-  RasterStats stats;
+  RasterCounters stats;
   RasterizeDepthReference(sv, s.triangles, p, zbuf.data(), &stats);
   EXPECT_EQ(stats.culled_backface, 1);
   EXPECT_EQ(stats.culled_near, 1);
-  EXPECT_EQ(stats.rasterized, 1);
+  EXPECT_EQ(stats.triangles_rasterized, 1);
 }
 
 
@@ -165,14 +165,14 @@ TEST_P(FixedVsReference, CoverageAndDepthAgreeOnRandomTriangles) {
     std::vector<ScreenVertex> sv(s.vertices.size());
     ProjectVertices(s.vertices, Eigen::Matrix3f::Identity(), Eigen::Vector3f::Zero(), p, sv);
     std::vector<float> z_ref(p.box.area(), INFINITY), z_fix(p.box.area(), INFINITY);
-    RasterStats st_ref, st_fix;
+    RasterCounters st_ref, st_fix;
     RasterizeDepthReference(sv, s.triangles, p, z_ref.data(), &st_ref);
     RasterizeDepthFixedPoint(sv, s.triangles, p, z_fix.data(), &st_fix);
-    EXPECT_EQ(st_fix.triangles, st_ref.triangles);
+    EXPECT_EQ(st_fix.triangles_in, st_ref.triangles_in);
     EXPECT_EQ(st_fix.culled_backface, st_ref.culled_backface);
     EXPECT_EQ(st_fix.culled_near + st_fix.culled_degenerate + st_fix.culled_backface +
-                  st_fix.culled_outside_box + st_fix.culled_between_pixels + st_fix.rasterized,
-              st_fix.triangles);
+                  st_fix.culled_outside_box + st_fix.culled_between_pixels + st_fix.triangles_rasterized,
+              st_fix.triangles_in);
     for (size_t i = 0; i < z_ref.size(); ++i) {
       if (std::isinf(z_ref[i]) && std::isinf(z_fix[i])) continue;
       ++pixels;
@@ -259,12 +259,12 @@ TEST(RasterFixed, HugeAndOffscreenTrianglesFallBackToFloatPath) {
   std::vector<ScreenVertex> sv(3);
   ProjectVertices(s.vertices, Eigen::Matrix3f::Identity(), Eigen::Vector3f::Zero(), p, sv);
   std::vector<float> z_ref(p.box.area(), INFINITY), z_fix(p.box.area(), INFINITY);
-  RasterStats a, b;
+  RasterCounters a, b;
   RasterizeDepthReference(sv, s.triangles, p, z_ref.data(), &a);
   RasterizeDepthFixedPoint(sv, s.triangles, p, z_fix.data(), &b);
   EXPECT_EQ(z_ref, z_fix);
   EXPECT_EQ(a.fragments, b.fragments);
-  EXPECT_EQ(b.triangles, 1);
+  EXPECT_EQ(b.triangles_in, 1);
 }
 
 
@@ -337,11 +337,11 @@ TEST(RasterSimd, BitIdenticalToScalarRowsOnEveryTarget) {
       std::vector<ScreenVertex> sv(s.vertices.size());
       ProjectVertices(s.vertices, Eigen::Matrix3f::Identity(), Eigen::Vector3f::Zero(), p, sv);
       std::vector<float> z_scalar(p.box.area(), INFINITY), z_simd(p.box.area() + kSimdPadFloats, INFINITY);
-      RasterStats st_scalar, st_simd;
+      RasterCounters st_scalar, st_simd;
       RasterizeDepthFixedPoint(sv, s.triangles, p, z_scalar.data(), &st_scalar, RowKernel::kScalar);
       RasterizeDepthFixedPoint(sv, s.triangles, p, z_simd.data(), &st_simd, RowKernel::kSimd);
       EXPECT_EQ(st_simd.fragments, st_scalar.fragments) << hwy::TargetName(target);
-      EXPECT_EQ(st_simd.rasterized, st_scalar.rasterized) << hwy::TargetName(target);
+      EXPECT_EQ(st_simd.triangles_rasterized, st_scalar.triangles_rasterized) << hwy::TargetName(target);
       EXPECT_EQ(st_simd.culled_between_pixels, st_scalar.culled_between_pixels);
       ASSERT_EQ(0, std::memcmp(z_scalar.data(), z_simd.data(), z_scalar.size() * sizeof(float)))
           << hwy::TargetName(target) << " trial " << trial;

@@ -64,7 +64,7 @@ HWY_INLINE hn::Vec<DI> CompressLanes(DI di, hn::Vec<DI> v, hn::Mask<DI> keep) {
 }
 
 size_t ClassifyTrianglesImpl(const int32_t* packed, const uint32_t* tri, size_t n, int32_t box_w, int32_t box_h,
-                             bool cull_backfaces, RasterStats* stats, uint32_t* survivors) {
+                             bool cull_backfaces, RasterCounters* stats, uint32_t* survivors) {
   const hn::ScalableTag<float> df;
   const hn::RebindToSigned<decltype(df)> di;
   const int32_t lanes = static_cast<int32_t>(hn::Lanes(di));
@@ -338,7 +338,7 @@ void SetupSurvivors(const SnappedVertices& snapped, std::span<const ScreenVertex
 }
 
 size_t ClassifyTriangles(const SnappedVertices& snapped, std::span<const std::array<uint32_t, 3>> triangles,
-                         const RasterParams& params, RasterStats* stats, std::vector<uint32_t>* survivors) {
+                         const RasterParams& params, RasterCounters* stats, std::vector<uint32_t>* survivors) {
   survivors->resize(triangles.size() + kSimdPadFloats);  // whole vectors are stored
   if (triangles.empty()) return 0;
   return HWY_DYNAMIC_DISPATCH(ClassifyTrianglesImpl)(snapped.packed.data(), triangles.data()->data(),

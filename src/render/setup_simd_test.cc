@@ -62,7 +62,7 @@ ScreenScene RandomScreenScene(std::mt19937_64& gen, int n, const PixelRect& box)
 struct Counts {
   int64_t near = 0, backface = 0, outside = 0, between = 0;
 };
-Counts Of(const RasterStats& s) {
+Counts Of(const RasterCounters& s) {
   return {s.culled_near, s.culled_backface, s.culled_outside_box, s.culled_between_pixels};
 }
 
@@ -102,7 +102,7 @@ TEST(BatchedSetup, SnapsAndClassifiesAsSetupFixedTriangleOnEveryTarget) {
       }
 
       // All triangles in one call: the survivors, in order, and the summed reasons.
-      RasterStats all;
+      RasterCounters all;
       std::vector<uint32_t> survivors;
       const size_t kept = ClassifyTriangles(snapped, s.triangles, params, &all, &survivors);
       const std::set<uint32_t> kept_set(survivors.begin(), survivors.begin() + kept);
@@ -147,7 +147,7 @@ TEST(BatchedSetup, SnapsAndClassifiesAsSetupFixedTriangleOnEveryTarget) {
         if (ref == TriangleSetup::kReady) {
           ASSERT_TRUE(SameSetup(fb, ft)) << "triangle " << t;
         }
-        RasterStats one;
+        RasterCounters one;
         std::vector<uint32_t> one_survivor;
         const size_t one_kept = ClassifyTriangles(snapped, std::span(s.triangles).subspan(t, 1), params, &one,
                                                   &one_survivor);
@@ -196,7 +196,7 @@ TEST(BatchedSetup, RasterizesBitIdenticallyOnEveryTarget) {
       const ScreenScene s = RandomScreenScene(gen, 301, params.box);
       for (RowKernel rows : {RowKernel::kScalar, RowKernel::kSimd}) {
         std::vector<float> z_ref(params.box.area() + kSimdPadFloats, INFINITY), z_batch = z_ref;
-        RasterStats st_ref, st_batch;
+        RasterCounters st_ref, st_batch;
         RasterizeDepthFixedPoint(s.vertices, s.triangles, params, z_ref.data(), &st_ref, rows);
         SnappedVertices snapped;
         SnapVertices(s.vertices, params, &snapped);
@@ -204,7 +204,7 @@ TEST(BatchedSetup, RasterizesBitIdenticallyOnEveryTarget) {
         ASSERT_EQ(0, std::memcmp(z_ref.data(), z_batch.data(), z_ref.size() * sizeof(float)))
             << hwy::TargetName(target) << " trial " << trial;
         EXPECT_EQ(st_batch, st_ref) << hwy::TargetName(target) << " trial " << trial;
-        EXPECT_GT(st_ref.rasterized, 0);
+        EXPECT_GT(st_ref.triangles_rasterized, 0);
       }
     }
   }

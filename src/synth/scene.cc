@@ -309,7 +309,7 @@ StatusOr<SynthFrame> SceneMaker::MakeFrame(int index) {
       std::vector<render::ScreenVertex> sv(mesh.vertices_m.size());
       render::ProjectVertices(mesh.vertices_m, placed[i].T_cam_obj.R.cast<float>(), placed[i].T_cam_obj.t.cast<float>(),
                               params, sv);
-      render::RasterStats stats;
+      RasterCounters stats;
       render::RasterizeDepthReference(sv, mesh.triangles, params, zbuf[i].data(), &stats);
     }
     depth.assign(pixels, INFINITY);

@@ -61,7 +61,7 @@ std::vector<float> RenderBox(const Intrinsics& K, const Mesh& mesh, const SE3& T
   std::vector<render::ScreenVertex> v(mesh.vertices_m.size());
   render::ProjectVertices(mesh.vertices_m, T.R.cast<float>(), T.t.cast<float>(), p, v);
   std::vector<float> z(static_cast<size_t>(box.area()), INFINITY);
-  render::RasterStats stats;
+  RasterCounters stats;
   render::RasterizeDepthReference(v, mesh.triangles, p, z.data(), &stats);
   return z;
 }
