@@ -32,15 +32,14 @@
 namespace mcpose {
 
 #define MCPOSE_COUNTER_FIELD(name, doc) int64_t name = 0;
+#define MCPOSE_COUNTER_ADD(name, doc) name += o.name;
 
 // What the raster cores count while rendering samples.
 struct RasterCounters {
   MCPOSE_RASTER_COUNTERS(MCPOSE_COUNTER_FIELD)
 
   RasterCounters& operator+=(const RasterCounters& o) {
-#define MCPOSE_COUNTER_ADD(name, doc) name += o.name;
     MCPOSE_RASTER_COUNTERS(MCPOSE_COUNTER_ADD)
-#undef MCPOSE_COUNTER_ADD
     return *this;
   }
   bool operator==(const RasterCounters&) const = default;
@@ -52,20 +51,17 @@ struct EngineCounters {
   MCPOSE_ENGINE_COUNTERS(MCPOSE_COUNTER_FIELD)
 
   EngineCounters& operator+=(const EngineCounters& o) {
-#define MCPOSE_COUNTER_ADD(name, doc) name += o.name;
     MCPOSE_ENGINE_COUNTERS(MCPOSE_COUNTER_ADD)
-#undef MCPOSE_COUNTER_ADD
     return *this;
   }
   EngineCounters& operator+=(const RasterCounters& o) {
-#define MCPOSE_COUNTER_ADD(name, doc) name += o.name;
     MCPOSE_RASTER_COUNTERS(MCPOSE_COUNTER_ADD)
-#undef MCPOSE_COUNTER_ADD
     return *this;
   }
   bool operator==(const EngineCounters&) const = default;
 };
 
 #undef MCPOSE_COUNTER_FIELD
+#undef MCPOSE_COUNTER_ADD
 
 }  // namespace mcpose
