@@ -529,10 +529,7 @@ PYBIND11_MODULE(_mcpose, m) {
       d["key"] = f.key;
       d["flag"] = f.flag ? py::object(py::str(f.flag)) : py::object(py::none());
       d["type"] = kTypes[static_cast<int>(f.type)];
-      std::string pointer = std::string("/") + f.key;
-      for (char& c : pointer)
-        if (c == '.') c = '/';
-      d["default"] = py::module_::import("json").attr("loads")(defaults.at(nlohmann::json::json_pointer(pointer)).dump());
+      d["default"] = py::module_::import("json").attr("loads")(defaults.at(io::OptionPointer(f.key)).dump());
       d["choices"] = std::vector<std::string>(f.names.begin(), f.names.end());
       d["values"] = f.BoundsText();
       d["unit"] = f.unit;

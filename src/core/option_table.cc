@@ -4,9 +4,7 @@
 #include <charconv>
 #include <cmath>
 #include <limits>
-#include <numbers>
 #include <type_traits>
-
 
 namespace mcpose {
 

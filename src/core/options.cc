@@ -73,8 +73,11 @@ bool EstimatorOptions::IsValid(std::string* error) const {
   }
   {
     const double steps = 360.0 / appearance.twin_step_deg;
-    if (std::fabs(steps - std::round(steps)) > 1e-9)
-      return Fail(error, "appearance.twin_step_deg must divide 360, got " + FindOptionField("appearance.twin_step_deg")->Text(*this));
+    if (std::fabs(steps - std::round(steps)) > 1e-9) {
+      std::ostringstream os;
+      os << "appearance.twin_step_deg must divide 360, got " << appearance.twin_step_deg;
+      return Fail(error, os.str());
+    }
   }
   // Features that would have no effect: asking for them is a mistake the user should see.
   const std::string backend = RasterBackendName(engine.backend);

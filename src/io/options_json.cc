@@ -6,22 +6,17 @@
 
 namespace mcpose::io {
 
-namespace {
-
-// The JSON pointer of a table key: "refine.tukey_m" -> /refine/tukey_m.
-nlohmann::json::json_pointer Pointer(const char* key) {
+nlohmann::json::json_pointer OptionPointer(const char* key) {
   std::string path = std::string("/") + key;
   for (char& c : path)
     if (c == '.') c = '/';
   return nlohmann::json::json_pointer(path);
 }
 
-}  // namespace
-
 nlohmann::json OptionsToJson(const EstimatorOptions& o) {
   nlohmann::json j = nlohmann::json::object();
   for (const OptionField& f : EstimatorOptionFields()) {
-    nlohmann::json& v = j[Pointer(f.key)];
+    nlohmann::json& v = j[OptionPointer(f.key)];
     switch (f.type) {
       case OptionField::Type::kInt: v = f.Get<int>(o); break;
       case OptionField::Type::kSeed: v = f.Get<uint64_t>(o); break;

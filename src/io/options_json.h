@@ -19,6 +19,8 @@ nlohmann::json OptionsToJson(const EstimatorOptions& options);
 // The options of such JSON: each field it names set (the others keep their defaults), then
 // checked (IsValid). Errors name the key: an unknown one, a wrong type, a value out of bounds.
 StatusOr<EstimatorOptions> OptionsFromJson(const nlohmann::json& json);
+// Where a field of the options table lies in that JSON: "refine.tukey_m" -> /refine/tukey_m.
+nlohmann::json::json_pointer OptionPointer(const char* key);
 nlohmann::json CountersToJson(const EngineCounters& counters);
 // The tracker's fields as in tracker.h, its single-frame options under "estimator".
 nlohmann::json TrackerOptionsToJson(const TrackerOptions& options);
