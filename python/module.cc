@@ -523,13 +523,14 @@ PYBIND11_MODULE(_mcpose, m) {
     // unit and doc.
     const nlohmann::json defaults = io::OptionsToJson(EstimatorOptions{});
     static const char* const kTypes[] = {"int", "seed", "float", "bool", "enum"};
+    const py::object loads = py::module_::import("json").attr("loads");
     py::list fields;
     for (const OptionField& f : EstimatorOptionFields()) {
       py::dict d;
       d["key"] = f.key;
       d["flag"] = f.flag ? py::object(py::str(f.flag)) : py::object(py::none());
       d["type"] = kTypes[static_cast<int>(f.type)];
-      d["default"] = py::module_::import("json").attr("loads")(defaults.at(io::OptionPointer(f.key)).dump());
+      d["default"] = loads(defaults.at(io::OptionPointer(f.key)).dump());
       d["choices"] = std::vector<std::string>(f.names.begin(), f.names.end());
       d["values"] = f.BoundsText();
       d["unit"] = f.unit;

@@ -1,7 +1,9 @@
 // The engine's counters, each named once: a counter is one line of these lists, which declare
 // the fields, sum them and write them to JSON (`estimate --out-json`, `bench --json`) under
 // their names. The raster cores count the first list per sample render (RasterCounters); an
-// estimate sums them with the filter's own (EngineCounters, mcpose/estimator.h).
+// estimate sums them with the filter's own (EngineCounters, mcpose/estimator.h). Every triangle
+// submitted has exactly one fate: the culled_* counts plus triangles_rasterized sum to
+// triangles_in.
 #pragma once
 
 #include <cstdint>

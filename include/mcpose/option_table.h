@@ -46,11 +46,12 @@ struct OptionField {
 
   // The field's value as the command line and JSON spell it: "620", "0.01", "on", "simd".
   std::string Text(const EstimatorOptions& options) const;
-  // Sets the field from that spelling; false (and no change) for a bad one.
+  // Sets a kBool ("on", "off") or kEnum field from that spelling; false (and no change) for a
+  // bad one or another type (numbers are parsed by CLI11 and nlohmann::json).
   bool Parse(const std::string& text, EstimatorOptions* options) const;
   // "" if the value of `options` lies within the bounds, else "<key> must lie in [a, b], got v".
   std::string CheckBounds(const EstimatorOptions& options) const;
-  // The bounds as the docs print them: "[1, 1000000]", "> 0", "any".
+  // The bounds as the docs print them: "[1, 1000000]", "> 0", "finite", "on, off", "1d or 3d".
   std::string BoundsText() const;
 };
 

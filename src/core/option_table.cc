@@ -238,43 +238,17 @@ std::string OptionField::Text(const EstimatorOptions& options) const {
 }
 
 bool OptionField::Parse(const std::string& text, EstimatorOptions* options) const {
-  const char* begin = text.data();
-  const char* end = begin + text.size();
-  switch (type) {
-    case Type::kInt: {
-      int v = 0;
-      const auto [ptr, ec] = std::from_chars(begin, end, v);
-      if (text.empty() || ec != std::errc() || ptr != end) return false;
-      Ref<int>(*options) = v;
-      return true;
-    }
-    case Type::kSeed: {
-      uint64_t v = 0;
-      const auto [ptr, ec] = std::from_chars(begin, end, v);
-      if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos || ec != std::errc() || ptr != end)
-        return false;
-      Ref<uint64_t>(*options) = v;
-      return true;
-    }
-    case Type::kDouble: {
-      double v = 0;
-      const auto [ptr, ec] = std::from_chars(begin, end, v);
-      if (text.empty() || ec != std::errc() || ptr != end) return false;
-      Ref<double>(*options) = v;
-      return true;
-    }
-    case Type::kBool:
-      if (text != "on" && text != "off") return false;
-      Ref<bool>(*options) = text == "on";
-      return true;
-    case Type::kEnum:
-      for (size_t i = 0; i < names.size(); ++i)
-        if (text == names[i]) {
-          Ref<int>(*options) = static_cast<int>(i);
-          return true;
-        }
-      return false;
+  if (type == Type::kBool) {
+    if (text != "on" && text != "off") return false;
+    Ref<bool>(*options) = text == "on";
+    return true;
   }
+  if (type == Type::kEnum)
+    for (size_t i = 0; i < names.size(); ++i)
+      if (text == names[i]) {
+        Ref<int>(*options) = static_cast<int>(i);
+        return true;
+      }
   return false;
 }
 
