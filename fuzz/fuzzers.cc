@@ -14,11 +14,11 @@
 #include <spdlog/spdlog.h>
 
 #include "io/bop_dataset.h"
-#include "io/io_util.h"
+#include "mcpose/io_util.h"
 #include "io/jpeg_io.h"
 #include "io/obj_io.h"
 #include "io/ply_io.h"
-#include "io/png_io.h"
+#include "mcpose/png_io.h"
 #include "io/ycbv_dataset.h"
 #include "mcpose/bop19.h"
 #include "mcpose/dataset.h"

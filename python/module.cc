@@ -14,12 +14,11 @@
 #include <string>
 #include <vector>
 
-#include "cli/common.h"
-#include "core/physical_limits.h"
-#include "engine/box_scorer.h"
-#include "engine/pipeline.h"
-#include "io/options_json.h"
-#include "io/results_journal.h"
+#include "mcpose/option_flags.h"
+#include "mcpose/limits.h"
+#include "mcpose/run.h"
+#include "mcpose/options_json.h"
+#include "mcpose/results_journal.h"
 #include "mcpose/bop19.h"
 #include "mcpose/dataset.h"
 #include "mcpose/detection.h"
@@ -308,7 +307,7 @@ std::map<int, std::vector<Detection>> CheckedByClass(const std::vector<Detection
     if (!has_mesh(dets[i].obj_id))
       throw py::value_error("detection " + std::to_string(i) + ": no mesh for category_id " +
                             std::to_string(dets[i].obj_id));
-    if (Status st = engine::CheckBox(dets[i], K); !st.ok())
+    if (Status st = CheckBox(dets[i], K); !st.ok())
       throw py::value_error("detection " + std::to_string(i) + " (category_id " + std::to_string(dets[i].obj_id) +
                             "): " + st.message());
   }
@@ -369,7 +368,7 @@ py::dict StepDict(const TrackStep& s) {
 }
 
 // Depth and intrinsics from numpy arrays, checked by the same functions as the readers' (the
-// limits of src/core/physical_limits.h): depth float32 or float64 in metres, each value 0 (no
+// limits of include/mcpose/limits.h): depth float32 or float64 in metres, each value 0 (no
 // measurement) or positive and finite up to 100 m; K a pinhole matrix within the readers' limits.
 std::pair<Intrinsics, DepthImage> DepthFromPython(const py::array& depth_array, const py::array& K_array) {
   const char kind = depth_array.dtype().kind();
@@ -517,7 +516,7 @@ PYBIND11_MODULE(_mcpose, m) {
   m.def("write_detections", [](const std::string& path, const py::iterable& dets) {
     Check(WriteDetectionsJson(path, DetectionsFromPython(dets)));
   });
-  m.def("is_switch", &cli::IsEstimatorSwitch);
+  m.def("is_switch", &IsEstimatorSwitch);
   m.def("option_fields", [] {
     // The options table: each field's key, flag, type, default (as JSON gives it), values,
     // unit and doc.
@@ -552,7 +551,7 @@ PYBIND11_MODULE(_mcpose, m) {
           if (j.is_discarded()) Raise(InvalidArgument("options: not JSON"));
           base = Value(io::OptionsFromJson(j));
         }
-        e.options = Value(cli::ParseEstimatorOptions(args, base));
+        e.options = Value(ParseEstimatorOptions(args, base));
         e.estimator = Value(Estimator::Create(e.options));
         return e;
       }), py::arg("args"), py::arg("options_json") = "")
@@ -619,7 +618,7 @@ PYBIND11_MODULE(_mcpose, m) {
   py::class_<PyTracker>(m, "Tracker")
       .def(py::init([](const std::vector<std::string>& args) {
         PyTracker t;
-        t.tracker = Value(Tracker::Create(Value(cli::ParseTrackerOptions(args))));
+        t.tracker = Value(Tracker::Create(Value(ParseTrackerOptions(args))));
         return t;
       }))
       .def_property_readonly("options_json", [](const PyTracker& s) {
@@ -645,7 +644,7 @@ PYBIND11_MODULE(_mcpose, m) {
                if (dets[i].obj_id != obj_id)
                  throw py::value_error("box " + std::to_string(i) + ": category_id " + std::to_string(dets[i].obj_id) +
                                        " is not the tracked class " + std::to_string(obj_id));
-               if (Status st = engine::CheckBox(dets[i], intr); !st.ok())
+               if (Status st = CheckBox(dets[i], intr); !st.ok())
                  throw py::value_error("box " + std::to_string(i) + ": " + st.message());
              }
              const std::unique_lock<std::mutex> lock = LockReleasingGil(*self.mutex);
@@ -664,7 +663,7 @@ PYBIND11_MODULE(_mcpose, m) {
         std::map<int, std::vector<Detection>> boxes;
         for (const Detection& d : DetectionsFromPython(detections))
           if (d.scene_id == f.key.scene_id && d.image_id == f.key.image_id) {
-            if (Status st = engine::CheckBox(d, f.K); !st.ok())
+            if (Status st = CheckBox(d, f.K); !st.ok())
               throw py::value_error("detection of category_id " + std::to_string(d.obj_id) + ": " + st.message());
             boxes[d.obj_id].push_back(d);
           }

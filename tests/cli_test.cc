@@ -18,11 +18,11 @@
 #include <nlohmann/json.hpp>
 
 #include "io/ply_io.h"
-#include "io/png_io.h"
+#include "mcpose/png_io.h"
 #include "mcpose/dataset.h"
 #include "mcpose/results.h"
 #include "mcpose/options.h"
-#include "render/simd_targets.h"
+#include "mcpose/simd.h"
 #include "cli_run.h"
 #include "dataset_copy.h"
 #include "test_data.h"

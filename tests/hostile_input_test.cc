@@ -13,7 +13,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "io/png_io.h"
+#include "mcpose/png_io.h"
 #include "io/ycbv_dataset.h"
 #include "mcpose/dataset.h"
 #include "mcpose/results.h"

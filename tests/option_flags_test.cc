@@ -1,6 +1,7 @@
 // Every field of the estimator's options, as the run fingerprint sees it (its JSON), can be set
 // from the command line (and so from Python, which passes its keyword options as these flags),
 // and setting it changes the fingerprint that guards `--resume`.
+#include <cmath>
 #include <fstream>
 #include <iterator>
 #include <set>
@@ -11,8 +12,8 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/common.h"
-#include "io/options_json.h"
-#include "io/results_journal.h"
+#include "mcpose/options_json.h"
+#include "mcpose/results_journal.h"
 #include "mcpose/option_table.h"
 
 namespace mcpose {
@@ -103,7 +104,7 @@ TEST(OptionFlags, EveryFieldHasAFlagThatSetsItAloneAndChangesTheFingerprint) {
   for (const FlagCase& c : Cases()) {
     std::string joined;
     for (const std::string& a : c.args) joined += a + " ";
-    StatusOr<EstimatorOptions> o = cli::ParseEstimatorOptions(c.args);
+    StatusOr<EstimatorOptions> o = ParseEstimatorOptions(c.args);
     ASSERT_TRUE(o.ok()) << joined << ": " << o.status().ToString();
     const nlohmann::json j = io::OptionsToJson(*o);
     std::set<std::string> changed;
@@ -143,6 +144,38 @@ TEST(OptionFlags, JsonOptionsAreCheckedAsTheCommandLineChecksThem) {
 }
 
 // docs/options.md holds the table as OptionTableMarkdown() prints it.
+TEST(OptionFlags, EveryTrackerFieldHasAFlagThatSetsItAloneAndItsJsonKey) {
+  const TrackerOptions defaults;
+  const nlohmann::json base = io::TrackerOptionsToJson(defaults);
+  for (const TrackerOptionField& f : TrackerOptionFields()) {
+    SCOPED_TRACE(f.key);
+    ASSERT_NE(f.flag, nullptr);
+    EXPECT_TRUE(f.CheckBounds(defaults).empty());
+    nlohmann::json want = base;
+    std::string text;
+    if (f.type == OptionType::kInt) {
+      const int v = f.Get<int>(defaults) + 1 <= f.max ? f.Get<int>(defaults) + 1 : f.Get<int>(defaults) - 1;
+      text = std::to_string(v), want[f.key] = v;
+    } else {
+      ASSERT_EQ(f.type, OptionType::kDouble);
+      const double d = f.Get<double>(defaults);
+      const double v = d + 0.01 <= f.max ? d + 0.01 : d - 0.01;
+      text = nlohmann::json(v).dump(), want[f.key] = v;
+    }
+    StatusOr<TrackerOptions> got = ParseTrackerOptions({f.flag, text});
+    ASSERT_TRUE(got.ok()) << got.status().ToString();
+    EXPECT_EQ(io::TrackerOptionsToJson(*got), want);
+    // Out of bounds: refused, naming the field.
+    if (std::isfinite(f.min)) {
+      const std::string below = f.type == OptionType::kInt ? std::to_string(static_cast<long long>(f.min) - 1)
+                                                           : nlohmann::json(f.min - 1).dump();
+      StatusOr<TrackerOptions> bad = ParseTrackerOptions({f.flag, below});
+      ASSERT_FALSE(bad.ok());
+      EXPECT_NE(bad.status().message().find(f.key), std::string::npos) << bad.status().message();
+    }
+  }
+}
+
 TEST(OptionFlags, TheDocsTableIsTheTable) {
   const std::string path = std::string(MCPOSE_SOURCE_DIR) + "/docs/options.md";
   std::ifstream in(path);
@@ -150,6 +183,9 @@ TEST(OptionFlags, TheDocsTableIsTheTable) {
   const std::string doc((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   const std::string table = OptionTableMarkdown();
   EXPECT_NE(doc.find(table), std::string::npos) << path << " must hold the options table as it is now:\n" << table;
+  const std::string tracker = TrackerOptionTableMarkdown();
+  EXPECT_NE(doc.find(tracker), std::string::npos) << path << " must hold the tracker's table as it is now:\n"
+                                                  << tracker;
 }
 
 }  // namespace

@@ -8,12 +8,12 @@
 
 #include <gtest/gtest.h>
 
-#include "analysis/depth_ambiguity.h"
-#include "analysis/refine_floor.h"
+#include "analysis/ambiguity_instance.h"
+#include "mcpose/analysis/refine_floor.h"
 #include "engine/box_scorer.h"
 #include "engine/context.h"
 #include "engine/initialize.h"
-#include "engine/pipeline.h"
+#include "mcpose/run.h"
 #include "engine/refinement.h"
 #include "mcpose/dataset.h"
 #include "mcpose/eval.h"
@@ -288,7 +288,7 @@ TEST(RealData, RefinementFromTheTruthStaysWithinMillimetresOfIt) {
   auto ds = OpenYcbv();
   ASSERT_TRUE(ds);
   analysis::RefineFloorOptions options;
-  options.align = engine::AlignSettings(RefineOptions{}, RefineOptions{}.max_iterations);  // the estimator's
+  options.refine = RefineOptions{};  // the estimator's alignment
   for (double start : {0.0, 10.0}) {
     options.start_mm = start, options.start_deg = 0.5 * start;
     auto report = analysis::AnalyzeRefineFloor(*ds, options);

@@ -15,7 +15,7 @@
 #include <gtest/gtest.h>
 
 #include "cli_run.h"
-#include "io/png_io.h"
+#include "mcpose/png_io.h"
 #include "mcpose/dataset.h"
 #include "report/overlay.h"
 #include "test_data.h"

@@ -3,9 +3,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "analysis/depth_ambiguity.h"
+#include "mcpose/analysis/depth_ambiguity.h"
 #include "cli/common.h"
-#include "io/io_util.h"
+#include "mcpose/io_util.h"
 #include "tools.h"
 #include "mcpose/dataset.h"
 

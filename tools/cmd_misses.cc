@@ -8,10 +8,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "analysis/miss_weight.h"
+#include "mcpose/analysis/miss_weight.h"
 #include "cli/common.h"
-#include "engine/refinement.h"
-#include "io/io_util.h"
+#include "mcpose/io_util.h"
 #include "tools.h"
 #include "mcpose/dataset.h"
 #include "mcpose/detection.h"
@@ -29,7 +28,7 @@ struct MissesArgs {
   int scene = -2;  // -2 (no scene id, the synthetic frames being -1): every scene
   double min_adds_mm = 10;
   bool as_filter = false;
-  cli::EstimatorFlags flags;
+  EstimatorFlags flags;
 };
 
 Status RunMisses(MissesArgs& a) {
@@ -48,8 +47,7 @@ Status RunMisses(MissesArgs& a) {
     if (detections.empty()) return InvalidArgument(a.detections + ": no box in scene " + std::to_string(a.scene));
   }
   MCPOSE_ASSIGN_OR_RETURN(EvalReport eval, Evaluate(*dataset, results, &detections, EvalOptions{}));
-  engine::Context context(o);
-  const refine::AlignOptions align = engine::AlignSettings(o.refine, o.refine.max_iterations);
+  analysis::Scorer scorer(o);
   std::map<int, Mesh> meshes;
   std::printf("Answers with ADD-S >= %.1f mm: %s weight of the estimate and of the truth aligned to\n"
               "the depth, each at its best over the class's boxes. search: the truth weighs more (the filter\n"
@@ -77,9 +75,8 @@ Status RunMisses(MissesArgs& a) {
     const SE3& T_gt = frame.gt[static_cast<size_t>(e.gt_index)].T_cam_obj;
     const PoseResult& est = results[static_cast<size_t>(e.result_index)];  // the row the evaluation scored
     MCPOSE_ASSIGN_OR_RETURN(std::vector<Eigen::Vector3f> points, dataset->LoadEvalPoints(e.obj_id));
-    auto m = analysis::WeighMiss(context, frame.K, frame.depth, colour ? &*colour : nullptr, mesh, boxes,
-                                 est.T_cam_obj, T_gt, align,
-                                 a.as_filter ? engine::Resolution::kEngine : engine::Resolution::kFull);
+    auto m = analysis::WeighMiss(scorer, frame.K, frame.depth, colour ? &*colour : nullptr, mesh, boxes,
+                                 est.T_cam_obj, T_gt, a.as_filter);
     if (!m.ok())
       return Status(m.status().code(), dataset->FrameName(e.key) + ": " + m.status().message());
     const double truth_mm = 1000 * AddS(points, m->truth_aligned, T_gt);
@@ -121,7 +118,7 @@ void AddMissesCommand(CLI::App& app, Status* status) {
   cmd->add_option("--min-adds-mm", args->min_adds_mm, "Answers with at least this ADD-S, mm")->capture_default_str();
   cmd->add_flag("--as-filter", args->as_filter,
                 "Weigh as the filter does (its level of detail and pixel stride), not at full resolution");
-  cli::AddEstimatorFlags(cmd, cli::kWeightFlags | cli::kEngineFlags | cli::kAppearanceFlags | cli::kRefineFlags,
+  AddEstimatorFlags(cmd, cli::kWeightFlags | cli::kEngineFlags | cli::kAppearanceFlags | cli::kRefineFlags,
                          &args->flags);
   cmd->add_option("--json", args->json, "Also write each answer's weights and verdict as JSON");
   cmd->callback([args, status] { *status = RunMisses(*args); });

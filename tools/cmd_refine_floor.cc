@@ -4,10 +4,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "analysis/refine_floor.h"
+#include "mcpose/analysis/refine_floor.h"
 #include "cli/common.h"
-#include "engine/refinement.h"
-#include "io/io_util.h"
+#include "mcpose/io_util.h"
 #include "tools.h"
 #include "mcpose/dataset.h"
 
@@ -35,7 +34,7 @@ nlohmann::json RowJson(const analysis::RefineFloorReport::Row& r) {
 }
 
 Status RunRefineFloor(RefineFloorArgs& a) {
-  a.floor.align = engine::AlignSettings(a.refine, a.refine.max_iterations);
+  a.floor.refine = a.refine;
   std::string error;
   if (!a.floor.IsValid(&error)) return InvalidArgument("invalid refine-floor options: " + error);
   if (!a.json.empty()) MCPOSE_RETURN_IF_ERROR(CheckWritable(a.json));
@@ -47,7 +46,7 @@ Status RunRefineFloor(RefineFloorArgs& a) {
               "%.1f mm and %.1f deg from it, in its visible-mask box grown by %.0f%% per side: ADD-S of the\n"
               "aligned pose to the truth (the truth and the depth disagree by this much), and the ADD-S AUC\n"
               "(up to %.0f cm) of the aligned poses.\n",
-              a.floor.align.max_iterations, 1000 * a.floor.align.tukey_m, 1000 * a.floor.align.max_distance_m,
+              a.floor.refine.max_iterations, 1000 * a.floor.refine.tukey_m, 1000 * a.floor.refine.max_distance_m,
               a.floor.start_mm, a.floor.start_deg, 100 * a.floor.box_margin, 100 * a.floor.auc_max_m);
   std::printf("%-24s %5s %10s %12s %14s %12s %8s\n", "object", "inst", "start mm", "aligned mm", "aligned median",
               "across ray", "AUC");
@@ -69,8 +68,8 @@ Status RunRefineFloor(RefineFloorArgs& a) {
     nlohmann::json doc = {{"options",
                            {{"start_mm", a.floor.start_mm}, {"start_deg", a.floor.start_deg},
                             {"box_margin", a.floor.box_margin}, {"seed", a.floor.seed},
-                            {"iterations", a.floor.align.max_iterations}, {"tukey_m", a.floor.align.tukey_m},
-                            {"max_distance_m", a.floor.align.max_distance_m}}},
+                            {"iterations", a.floor.refine.max_iterations}, {"tukey_m", a.floor.refine.tukey_m},
+                            {"max_distance_m", a.floor.refine.max_distance_m}}},
                           {"overall", RowJson(report.overall)},
                           {"per_object", rows},
                           {"instances", inst}};
@@ -95,7 +94,7 @@ void AddRefineFloorCommand(CLI::App& app, Status* status) {
       ->capture_default_str();
   cmd->add_option("--box-margin", args->floor.box_margin, "Visible-mask box grown by this share of its size per side")
       ->capture_default_str();
-  cmd->add_option("--seed", args->floor.seed, "Seed of the random starts")->check(cli::SeedCheck())->capture_default_str();
+  cmd->add_option("--seed", args->floor.seed, "Seed of the random starts")->check(SeedCheck())->capture_default_str();
   cmd->add_option("--iterations", args->refine.max_iterations, "Alignment steps (the estimator's --refine-iterations)")
       ->capture_default_str();
   cmd->add_option("--tukey", args->refine.tukey_m, "Robust loss scale of the alignment, metres")->capture_default_str();

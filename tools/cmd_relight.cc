@@ -9,10 +9,9 @@
 #include <vector>
 
 #include "cli/common.h"
-#include "core/rng.h"
-#include "io/io_util.h"
-#include "io/png_io.h"
-#include "synth/photometric.h"
+#include "mcpose/io_util.h"
+#include "mcpose/png_io.h"
+#include "mcpose/photometric.h"
 #include "tools.h"
 
 namespace mcpose::tools {
@@ -63,8 +62,7 @@ Status WriteRelit(const fs::path& src, const fs::path& dst, const synth::Photome
       }
       MCPOSE_ASSIGN_OR_RETURN(ColourImage image, io::ReadColourPng(f.string()));
       // Each frame its own noise, the same for a seed whatever else the dataset holds.
-      const uint64_t frame_seed =
-          HashCombine(seed, std::hash<std::string>{}(video.filename().string() + "/" + name));
+      const uint64_t frame_seed = synth::PhotometricFrameSeed(seed, video.filename().string() + "/" + name);
       MCPOSE_ASSIGN_OR_RETURN(ColourImage relit, synth::ApplyPhotometric(t, image, frame_seed));
       MCPOSE_RETURN_IF_ERROR(io::WriteColourPng((out_video / name).string(), relit));
       std::fprintf(stderr, "\rframes %d", ++frames);
@@ -111,7 +109,7 @@ void AddRelightCommand(CLI::App& app, Status* status) {
                   "none, exposure:G (linear light times G), gamma:G, white-balance:R,G,B (linear gains), "
                   "saturation:F, clip:L (values above L * 255 clipped), jpeg:Q (quality), noise:S (levels)")
       ->required();
-  cmd->add_option("--seed", args->seed, "Seed of the noise")->check(cli::SeedCheck())->capture_default_str();
+  cmd->add_option("--seed", args->seed, "Seed of the noise")->check(SeedCheck())->capture_default_str();
   cmd->callback([args, status] { *status = RunRelight(*args); });
 }
 

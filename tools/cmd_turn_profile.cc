@@ -6,11 +6,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "analysis/turn_profile.h"
-#include "engine/instances.h"
-#include "engine/twins.h"
+#include "mcpose/analysis/turn_profile.h"
 #include "cli/common.h"
-#include "io/io_util.h"
+#include "mcpose/io_util.h"
 #include "tools.h"
 #include "mcpose/dataset.h"
 #include "mcpose/detection.h"
@@ -25,7 +23,7 @@ namespace {
 struct TurnProfileArgs {
   std::string dataset, split = "test", models, detections, json;
   int obj_id = 0;
-  cli::EstimatorFlags flags;
+  EstimatorFlags flags;
   analysis::TurnProfileOptions turn;
 };
 
@@ -46,7 +44,7 @@ Status RunTurnProfile(TurnProfileArgs& a) {
   if (boxes.empty())
     return InvalidArgument(a.detections + ": no box of obj_id " + std::to_string(a.obj_id));
 
-  const int axis = a.turn.axis >= 0 ? a.turn.axis : engine::DistinctAxis(mesh);
+  const int axis = a.turn.axis >= 0 ? a.turn.axis : analysis::TurnAxis(mesh);
   std::printf("turn profile of %s about model axis %c, %g deg steps, the truth within %g deg; engine %s, "
               "LOD %.2f px, pixel stride %d\n",
               dataset->ObjectName(a.obj_id).c_str(), "xyz"[axis], a.turn.step_deg, a.turn.near_deg,
@@ -69,8 +67,8 @@ Status RunTurnProfile(TurnProfileArgs& a) {
       if (MaskBox(mask, &tight) == 0) continue;  // not visible
       const Detection* box = &candidates[0];     // the box that overlaps the instance most
       for (const Detection& d : candidates)
-        if (engine::BoxIou(d, tight) > engine::BoxIou(*box, tight)) box = &d;
-      if (engine::BoxIou(*box, tight) == 0) continue;  // a distractor box elsewhere
+        if (BoxIou(d, tight) > BoxIou(*box, tight)) box = &d;
+      if (BoxIou(*box, tight) == 0) continue;  // a distractor box elsewhere
       auto profile = analysis::ProfileTurns(frame.K, frame.depth, colour ? &*colour : nullptr, mesh, *box,
                                             gt.T_cam_obj, o, a.turn);
       if (!profile.ok())
@@ -125,7 +123,7 @@ void AddTurnProfileCommand(CLI::App& app, Status* status) {
   cmd->add_option("--step-deg", args->turn.step_deg, "Turn step, degrees (divides 360, at most 45)")->capture_default_str();
   cmd->add_option("--near-deg", args->turn.near_deg, "Turns within this of the truth count as the truth")->capture_default_str();
   cmd->add_option("--models", args->models, "Models folder to read meshes (and their colour) from");
-  cli::AddEstimatorFlags(cmd, cli::kWeightFlags | cli::kEngineFlags | cli::kAppearanceFlags, &args->flags);
+  AddEstimatorFlags(cmd, cli::kWeightFlags | cli::kEngineFlags | cli::kAppearanceFlags, &args->flags);
   cmd->add_option("--json", args->json, "Also write each instance's profile (angles, weights) and the statistics");
   cmd->callback([args, status] { *status = RunTurnProfile(*args); });
 }

@@ -11,10 +11,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "analysis/twin_margin.h"
-#include "analysis/visible_instances.h"
+#include "mcpose/analysis/twin_margin.h"
+#include "mcpose/analysis/visible_instances.h"
 #include "cli/common.h"
-#include "io/io_util.h"
+#include "mcpose/io_util.h"
 #include "mcpose/dataset.h"
 #include "mcpose/eval.h"
 #include "mcpose/results.h"
@@ -31,7 +31,7 @@ struct TwinMarginArgs {
   std::vector<int> scenes;  // empty: every real scene
   bool synthetic = false;
   double right_mm = 20, wrong_mm = 40;
-  cli::EstimatorFlags flags;
+  EstimatorFlags flags;
   analysis::TwinMarginOptions margin;
 };
 
@@ -49,7 +49,7 @@ Status RunTwinMargin(TwinMarginArgs& a) {
   if (!a.json.empty()) MCPOSE_RETURN_IF_ERROR(CheckWritable(a.json));
   MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<Dataset> dataset, Dataset::Open(a.dataset, a.split, a.models));
   MCPOSE_RETURN_IF_ERROR(cli::CheckOutputsOutsideDataset(*dataset, {{"--json", a.json}}));
-  engine::Context context(a.flags.options);
+  analysis::Scorer context(a.flags.options);
   // With --results: each answer of an (image, class), the highest-scored row.
   std::map<std::tuple<int, int, int>, SE3> answers;
   if (!a.results.empty()) {
@@ -153,7 +153,7 @@ void AddTwinMarginCommand(CLI::App& app, Status* status) {
       ->capture_default_str();
   cmd->add_option("--wrong-mm", args->wrong_mm, "A candidate beyond this ADD(-S) is wrong, mm")
       ->capture_default_str();
-  cli::AddEstimatorFlags(cmd, cli::kWeightFlags | cli::kEngineFlags | cli::kAppearanceFlags | cli::kRefineFlags,
+  AddEstimatorFlags(cmd, cli::kWeightFlags | cli::kEngineFlags | cli::kAppearanceFlags | cli::kRefineFlags,
                          &args->flags);
   cmd->add_option("--json", args->json, "Also write each instance's margins as JSON");
   cmd->add_option("--results", args->results,

@@ -22,6 +22,9 @@ int main(int argc, char** argv) {
   app.add_subcommand("options-table",
                      "Print the estimator's options table (docs/options.md holds it; a test checks it is current)")
       ->callback([] { std::fputs(mcpose::OptionTableMarkdown().c_str(), stdout); });
+  app.add_subcommand("tracker-options-table",
+                     "Print the tracker's options table (docs/options.md holds it; a test checks it is current)")
+      ->callback([] { std::fputs(mcpose::TrackerOptionTableMarkdown().c_str(), stdout); });
   // Warnings and progress go to stderr; stdout carries only what a command reports.
   spdlog::set_default_logger(spdlog::stderr_color_st("mcpose-tools"));
   try {

@@ -8,151 +8,11 @@
 
 #include <unistd.h>
 
-#include "core/physical_limits.h"
-#include "io/io_util.h"
-#include "render/simd_targets.h"
+#include "mcpose/limits.h"
+#include "mcpose/io_util.h"
+#include "mcpose/simd.h"
 
 namespace mcpose::cli {
-
-void AddEstimatorFlags(CLI::App* cmd, unsigned groups, EstimatorFlags* f) {
-  EstimatorOptions& o = f->options;
-  for (const OptionField& field : EstimatorOptionFields()) {
-    if (!(groups & field.group)) continue;
-    if (field.flag == nullptr) {  // weight.a, b, c: one flag for the three, with the first
-      if (std::string(field.key) != "weight.a") continue;
-      char help[128];
-      std::snprintf(help, sizeof help,
-                    "Weight coefficients a b c (sum 1): w = a N/N_b + b N/N_r + c score (default %.2f %.2f %.2f)",
-                    o.weight.a, o.weight.b, o.weight.c);
-      cmd->add_option("--weights", f->weights, help)->expected(3);
-      continue;
-    }
-    const std::string flag = field.flag;
-    switch (field.type) {
-      case OptionField::Type::kInt:
-        cmd->add_option(flag, field.Ref<int>(o), field.doc)->capture_default_str();
-        break;
-      case OptionField::Type::kSeed:
-        cmd->add_option(flag, field.Ref<uint64_t>(o), field.doc)->check(SeedCheck())->capture_default_str();
-        break;
-      case OptionField::Type::kDouble:
-        cmd->add_option(flag, field.Ref<double>(o), field.doc)->capture_default_str();
-        break;
-      case OptionField::Type::kBool:
-        if (field.style == OptionField::Switch::kOnOff) {
-          std::string& text = f->text[field.key] = field.Text(o);
-          cmd->add_option(flag, text, field.doc)->capture_default_str();
-        } else {
-          const CLI::Option* opt = cmd->add_flag(flag + ",!--no-" + flag.substr(2), field.Ref<bool>(o),
-                                                 std::string(field.doc) + " (default " + field.Text(o) + ")");
-          if (std::string(field.key).starts_with("engine.")) f->given[field.key] = opt;
-        }
-        break;
-      case OptionField::Type::kEnum: {
-        std::string& text = f->text[field.key] = field.Text(o);
-        cmd->add_option(flag, text, field.doc)->capture_default_str();
-        break;
-      }
-    }
-  }
-  if (groups & kEngineFlags)
-    cmd->add_option("--simd-target", f->simd_target,
-                    "Cap the SIMD dispatch at this Highway target (here: " + SimdTargets() +
-                        "), e.g. AVX2 on an AVX-512 machine; same results; default: the best");
-}
-
-Status EstimatorFlags::Finish() {
-  EstimatorOptions& o = options;
-  for (const auto& [key, value] : text) {
-    const OptionField& field = *FindOptionField(key);
-    if (!field.Parse(value, &o))
-      return InvalidArgument(std::string(field.flag) + " must be " +
-                             (field.type == OptionField::Type::kBool ? std::string("on or off")
-                                                                     : ChoicesText(field.names)) +
-                             ", got '" + value + "'");
-  }
-  if (!weights.empty()) {
-    if (weights.size() != 3) return InvalidArgument("--weights takes three numbers a b c");
-    o.weight.a = weights[0], o.weight.b = weights[1], o.weight.c = weights[2];
-  }
-  EstimatorOptions usable = o;
-  usable.engine.DropUnusableFeatures();
-  for (const auto& [key, opt] : given)
-    if (opt->count() == 0) {
-      const OptionField& field = *FindOptionField(key);
-      field.Ref<bool>(o) = field.Get<bool>(usable);
-    }
-  if (!simd_target.empty() && !render::LimitSimdTargets(simd_target))
-    return InvalidArgument("--simd-target must be one of: " + SimdTargets() + "; got '" + simd_target + "'");
-  std::string error;
-  if (!o.IsValid(&error)) return InvalidArgument("invalid options: " + error);
-  return Status::Ok();
-}
-
-namespace {
-
-// Parses `args` with the flags `app` holds, then finishes the estimator's `flags`.
-Status ParseArgs(CLI::App& app, EstimatorFlags& flags, const std::vector<std::string>& args) {
-  std::vector<std::string> reversed(args.rbegin(), args.rend());  // CLI11 takes them last first
-  try {
-    app.parse(reversed);
-  } catch (const CLI::ParseError& e) {
-    return InvalidArgument(e.what());
-  }
-  return flags.Finish();
-}
-
-}  // namespace
-
-StatusOr<EstimatorOptions> ParseEstimatorOptions(const std::vector<std::string>& args, const EstimatorOptions& base) {
-  CLI::App app{"mcpose estimator options"};
-  EstimatorFlags flags;
-  flags.options = base;
-  AddEstimatorFlags(&app, kAllEstimatorFlags, &flags);
-  MCPOSE_RETURN_IF_ERROR(ParseArgs(app, flags, args));
-  return flags.options;
-}
-
-void AddTrackerFlags(CLI::App* cmd, TrackerOptions* t) {
-  cmd->add_option("--track-samples", t->samples, "Samples of a tracked frame")->capture_default_str();
-  cmd->add_option("--track-iterations", t->iterations, "Filter iterations of a tracked frame")->capture_default_str();
-  cmd->add_option("--stop-weight", t->stop_weight, "A tracked frame stops when its mean weight exceeds this")->capture_default_str();
-  cmd->add_option("--motion-sigma-t", t->motion_sigma_t_m, "Motion model: translation noise per frame, metres")->capture_default_str();
-  cmd->add_option("--motion-sigma-r", t->motion_sigma_r_rad, "Motion model: rotation noise per frame, radians")->capture_default_str();
-  cmd->add_option("--box-margin", t->box_margin, "A tracked frame's box: the last silhouette grown by this fraction a side")
-      ->capture_default_str();
-  cmd->add_option("--track-refine-iterations", t->refine_iterations,
-                  "Refinement steps in a tracked frame (0: none)")->capture_default_str();
-  cmd->add_option("--lost-fit", t->lost_fit,
-                  "The track is lost where the share of the answer's visible silhouette that the depth confirms is "
-                  "below this")
-      ->capture_default_str();
-  cmd->add_option("--lost-visible", t->lost_visible,
-                  "The track is lost where the share of the answer's silhouette not hidden behind nearer surfaces is "
-                  "below this")
-      ->capture_default_str();
-}
-
-StatusOr<TrackerOptions> ParseTrackerOptions(const std::vector<std::string>& args) {
-  CLI::App app{"mcpose tracker options"};
-  EstimatorFlags flags;
-  TrackerOptions options;
-  AddTrackerFlags(&app, &options);
-  AddEstimatorFlags(&app, kAllEstimatorFlags & ~kInstanceFlags, &flags);
-  MCPOSE_RETURN_IF_ERROR(ParseArgs(app, flags, args));
-  options.estimator = flags.options;
-  std::string error;
-  if (!options.IsValid(&error)) return InvalidArgument("invalid tracker options: " + error);
-  return options;
-}
-
-bool IsEstimatorSwitch(const std::string& name) {
-  CLI::App app;
-  EstimatorFlags flags;
-  AddEstimatorFlags(&app, kAllEstimatorFlags, &flags);
-  const CLI::Option* opt = app.get_option_no_throw("--" + name);
-  return opt != nullptr && opt->get_expected_min() == 0;
-}
 
 void RemoveOutput(const std::string& path) {
   if (path.empty()) return;
@@ -189,21 +49,6 @@ bool SameFile(const std::string& a, const std::string& b) {
 }
 
 }  // namespace
-
-const CLI::Validator& SeedCheck() {
-  static const CLI::Validator check(
-      [](std::string& text) -> std::string {
-        uint64_t value = 0;
-        const char* end = text.data() + text.size();
-        const auto [ptr, ec] = std::from_chars(text.data(), end, value);
-        if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos || ec != std::errc() ||
-            ptr != end)
-          return "a seed is a whole number from 0 to 18446744073709551615, got '" + text + "'";
-        return {};
-      },
-      "SEED", "seed");
-  return check;
-}
 
 Status CheckOutputsDistinct(std::initializer_list<PathArg> inputs, std::initializer_list<PathArg> outputs) {
   for (auto out = outputs.begin(); out != outputs.end(); ++out) {

@@ -4,11 +4,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "bench/bench.h"
+#include "mcpose/bench.h"
 #include "cli/common.h"
-#include "io/io_util.h"
+#include "mcpose/io_util.h"
 #include "commands.h"
-#include "io/options_json.h"
+#include "mcpose/options_json.h"
 #include "mcpose/dataset.h"
 
 namespace mcpose::cli {

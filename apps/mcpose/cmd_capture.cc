@@ -1,10 +1,10 @@
 #include <cstdio>
 #include <memory>
 
-#include "appearance/capture.h"
+#include "mcpose/capture.h"
 #include "cli/common.h"
 #include "commands.h"
-#include "io/io_util.h"
+#include "mcpose/io_util.h"
 #include "mcpose/dataset.h"
 
 namespace mcpose::cli {

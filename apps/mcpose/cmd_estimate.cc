@@ -7,11 +7,12 @@
 #include <spdlog/spdlog.h>
 
 #include "cli/common.h"
-#include "io/io_util.h"
+#include "mcpose/estimate_detail.h"
+#include "mcpose/io_util.h"
 #include "commands.h"
-#include "engine/pipeline.h"
-#include "io/options_json.h"
-#include "io/results_journal.h"
+#include "mcpose/run.h"
+#include "mcpose/options_json.h"
+#include "mcpose/results_journal.h"
 #include "mcpose/bop19.h"
 #include "mcpose/dataset.h"
 #include "mcpose/detection.h"
@@ -28,49 +29,6 @@ struct EstimateArgs {
   bool quiet = false, resume = false;
   EstimatorFlags flags;
 };
-
-nlohmann::json ObjectJson(const ObjectRecord& r) {
-  const ObjectEstimate& e = r.estimate;
-  nlohmann::json R = nlohmann::json::array(), t = nlohmann::json::array();
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) R.push_back(e.T_cam_obj.R(i, j));
-  for (int i = 0; i < 3; ++i) t.push_back(e.T_cam_obj.t(i) * 1000.0);
-  nlohmann::json per_iteration = nlohmann::json::array();
-  for (const IterationSummary& it : e.iterations)
-    per_iteration.push_back({{"mean_weight", it.mean_weight},
-                             {"best_weight", it.best_weight},
-                             {"score_ms", it.score_ms},
-                             {"iteration_ms", it.iteration_ms}});
-  return {
-      {"scene_id", r.key.scene_id},
-      {"im_id", r.key.image_id},
-      {"obj_id", r.obj_id},
-      {"instance", r.instance},
-      {"name", r.name},
-      {"boxes", r.num_boxes},
-      {"chosen_box", {{"bbox", {r.chosen_box.x, r.chosen_box.y, r.chosen_box.w, r.chosen_box.h}},
-                      {"score", r.chosen_box.score},
-                      {"index", e.best_box}}},
-      {"iterations", e.iterations.size()},
-      {"best_weight", e.best_weight},
-      {"final_mean_weight", e.final_mean_weight()},
-      {"per_iteration", per_iteration},
-      {"R", R},
-      {"t_mm", t},
-      {"time_s", r.time_s},
-      {"box_triangles", e.box_triangles},
-      {"depth_pixels_read", e.depth_pixels_read},
-      {"colour", e.colour},
-      {"twins", {{"ran", e.twins.ran}, {"candidates", e.twins.candidates}, {"winner", e.twins.winner},
-                 {"winner_weight", e.twins.winner_weight}, {"margin", e.twins.margin},
-                 {"refine_iterations", e.twins.refine_iterations}, {"ms", e.twins.ms}}},
-      {"refine", {{"ran", e.refine.ran}, {"accepted", e.refine.accepted}, {"iterations", e.refine.iterations},
-                  {"pairs", e.refine.pairs}, {"rms_before_m", e.refine.rms_before_m},
-                  {"rms_after_m", e.refine.rms_after_m}, {"weight_before", e.refine.weight_before},
-                  {"weight_after", e.refine.weight_after}, {"ms", e.refine.ms}}},
-      {"counters", io::CountersToJson(e.Totals())},
-  };
-}
 
 Status RunEstimate(EstimateArgs& a) {
   MCPOSE_RETURN_IF_ERROR(a.flags.Finish());
@@ -145,13 +103,7 @@ Status RunEstimate(EstimateArgs& a) {
 
   // ---- Outputs: written only after everything succeeded ---------------------------------
   if (!a.out_json.empty()) {
-    nlohmann::json objects = nlohmann::json::array();
-    for (const auto& r : report.objects) objects.push_back(ObjectJson(r));
-    nlohmann::json options = io::OptionsToJson(o);
-    options["engine"]["simd_target"] = ActiveSimdTarget();
-    nlohmann::json doc = {
-        {"dataset", a.dataset}, {"models", dataset->models_dir()}, {"detections", a.detections},
-        {"options", options}, {"objects", objects}};
+    const nlohmann::json doc = ::mcpose::report::EstimateDetailJson(report, o, a.dataset, dataset->models_dir(), a.detections);
     MCPOSE_RETURN_IF_ERROR(io::WriteFileAtomic(a.out_json, doc.dump(1) + "\n"));
   }
   if (Status written = journal->Finish(); !written.ok()) {

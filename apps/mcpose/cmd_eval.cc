@@ -9,8 +9,8 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/common.h"
-#include "engine/pipeline.h"
-#include "io/io_util.h"
+#include "mcpose/run.h"
+#include "mcpose/io_util.h"
 #include "commands.h"
 #include "mcpose/bop19.h"
 #include "mcpose/dataset.h"

@@ -8,7 +8,7 @@
 #include "mcpose/dataset.h"
 #include "mcpose/detection.h"
 #include "mcpose/results.h"
-#include "report/report.h"
+#include "mcpose/report.h"
 
 namespace mcpose::cli {
 

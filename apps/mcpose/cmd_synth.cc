@@ -6,8 +6,8 @@
 
 #include "cli/common.h"
 #include "commands.h"
-#include "io/json_util.h"
-#include "synth/dataset.h"
+#include "mcpose/json_util.h"
+#include "mcpose/synth.h"
 
 namespace mcpose::cli {
 

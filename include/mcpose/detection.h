@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "mcpose/camera.h"
 #include "mcpose/status.h"
 
 namespace mcpose {
@@ -26,6 +27,16 @@ std::string BoxText(const Detection& d);
 // positive finite size within limits::kMaxBoxPx, finite time), else what is wrong with it. The
 // detections reader and the Python entry points check each detection here.
 std::string CheckDetection(const Detection& d);
+// The part of that check about the box alone (its score and bbox), whatever its ids.
+std::string CheckDetectionBox(const Detection& d);
+
+// Intersection over union of two boxes; 0 when either is empty.
+double BoxIou(const Detection& a, const Detection& b);
+
+// Ok, or an error saying what is wrong with the box in an image of K's size: what
+// CheckDetectionBox says, or a box that lies outside the image. The one check of a box, whether
+// it comes from a file, the command line or Python.
+Status CheckBox(const Detection& d, const Intrinsics& K);
 
 // Reads a BOP detections JSON file: a list of {"scene_id", "image_id", "category_id", "score",
 // "bbox": [x, y, w, h], "time" (optional)}. Errors name the file and the offending entry.

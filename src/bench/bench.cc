@@ -1,4 +1,4 @@
-#include "bench/bench.h"
+#include "mcpose/bench.h"
 
 #include <algorithm>
 #include <chrono>
@@ -15,7 +15,7 @@
 #include "engine/context.h"
 #include "engine/filter_loop.h"
 #include "engine/initialize.h"
-#include "engine/pipeline.h"
+#include "mcpose/run.h"
 #include "mcpose/eval.h"
 #include "score/inlier.h"
 

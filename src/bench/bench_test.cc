@@ -1,6 +1,6 @@
 // The bench's machine description, from /proc/cpuinfo-format text: brand, family and model (a
 // VM's brand alone, "AMD EPYC", does not tell Zen 3 from Zen 4), and the processor count.
-#include "bench/bench.h"
+#include "mcpose/bench.h"
 
 #include <sstream>
 

@@ -1,5 +1,7 @@
 #include "mcpose/option_table.h"
 
+#include "mcpose/tracker.h"
+
 #include <array>
 #include <charconv>
 #include <cmath>
@@ -16,14 +18,14 @@ constexpr std::array<const char*, 3> kSpaceNames = {"rgb", "chroma", "intensity-
 constexpr std::array<const char*, 2> kOnOff = {"off", "on"};
 
 template <class T>
-constexpr OptionField::Type TypeOf() {
-  if constexpr (std::is_same_v<T, bool>) return OptionField::Type::kBool;
-  else if constexpr (std::is_same_v<T, uint64_t>) return OptionField::Type::kSeed;
-  else if constexpr (std::is_same_v<T, int>) return OptionField::Type::kInt;
-  else if constexpr (std::is_same_v<T, double>) return OptionField::Type::kDouble;
+constexpr OptionType TypeOf() {
+  if constexpr (std::is_same_v<T, bool>) return OptionType::kBool;
+  else if constexpr (std::is_same_v<T, uint64_t>) return OptionType::kSeed;
+  else if constexpr (std::is_same_v<T, int>) return OptionType::kInt;
+  else if constexpr (std::is_same_v<T, double>) return OptionType::kDouble;
   else {
     static_assert(std::is_enum_v<T> && std::is_same_v<std::underlying_type_t<T>, int>, "an option's type");
-    return OptionField::Type::kEnum;
+    return OptionType::kEnum;
   }
 }
 
@@ -175,6 +177,36 @@ const OptionField kFields[] = {
 
 #undef MCPOSE_OPTION
 
+// The key, flag, type and address of field `member` of TrackerOptions.
+#define MCPOSE_TRACKER_OPTION(member, flag)                                                       \
+  #member, flag, TypeOf<std::remove_cvref_t<decltype(std::declval<TrackerOptions&>().member)>>(), \
+      [](TrackerOptions& o) -> void* { return &o.member; }
+
+const TrackerOptionField kTrackerFields[] = {
+    {MCPOSE_TRACKER_OPTION(samples, "--track-samples"), 1, limits::kMaxSamples, false, false, "",
+     "Samples of a tracked frame", kTrackerOptions},
+    {MCPOSE_TRACKER_OPTION(iterations, "--track-iterations"), 1, limits::kMaxIterations, false, false, "",
+     "Filter iterations of a tracked frame", kTrackerOptions},
+    {MCPOSE_TRACKER_OPTION(stop_weight, "--stop-weight"), -kInf, kInf, false, false, "",
+     "A tracked frame stops when its mean weight exceeds this", kTrackerOptions},
+    {MCPOSE_TRACKER_OPTION(motion_sigma_t_m, "--motion-sigma-t"), 0, limits::kMaxSigmaM, false, false, "m",
+     "Motion model: translation noise per frame, metres", kTrackerOptions},
+    {MCPOSE_TRACKER_OPTION(motion_sigma_r_rad, "--motion-sigma-r"), 0, limits::kMaxSigmaRad, false, false, "rad",
+     "Motion model: rotation noise per frame, radians", kTrackerOptions},
+    {MCPOSE_TRACKER_OPTION(box_margin, "--box-margin"), 0, 2, false, false, "",
+     "A tracked frame's box: the last silhouette grown by this fraction a side", kTrackerOptions},
+    {MCPOSE_TRACKER_OPTION(refine_iterations, "--track-refine-iterations"), 0, limits::kMaxIterations, false, false,
+     "", "Refinement steps in a tracked frame (0: none)", kTrackerOptions},
+    {MCPOSE_TRACKER_OPTION(lost_fit, "--lost-fit"), 0, 1, false, false, "",
+     "The track is lost where the share of the answer's visible silhouette that the depth confirms is below this",
+     kTrackerOptions},
+    {MCPOSE_TRACKER_OPTION(lost_visible, "--lost-visible"), 0, 1, false, false, "",
+     "The track is lost where the share of the answer's silhouette not hidden behind nearer surfaces is below this",
+     kTrackerOptions},
+};
+
+#undef MCPOSE_TRACKER_OPTION
+
 // Shortest decimal text that reads back to the same double ("0.01", "620", "1e-06").
 std::string DoubleText(double v) {
   char buf[64];
@@ -198,6 +230,14 @@ const OptionField* FindOptionField(const std::string& key) {
   return nullptr;
 }
 
+std::span<const TrackerOptionField> TrackerOptionFields() { return kTrackerFields; }
+
+const TrackerOptionField* FindTrackerOptionField(const std::string& key) {
+  for (const TrackerOptionField& f : kTrackerFields)
+    if (key == f.key) return &f;
+  return nullptr;
+}
+
 std::span<const char* const> InlierModeNames() { return kInlierNames; }
 std::span<const char* const> RasterBackendNames() { return kBackendNames; }
 std::span<const char* const> ColourSpaceNames() { return kSpaceNames; }
@@ -208,12 +248,15 @@ std::string ChoicesText(std::span<const char* const> names) {
   return s;
 }
 
-std::string OptionTableMarkdown() {
-  const EstimatorOptions defaults;
+namespace {
+
+template <class Options>
+std::string MarkdownRows(std::span<const BasicOptionField<Options>> fields, const Options& defaults) {
+  using Field = BasicOptionField<Options>;
   std::string md = "| flag | JSON key | default | values | unit | meaning |\n|---|---|---|---|---|---|\n";
-  for (const OptionField& f : kFields) {
+  for (const Field& f : fields) {
     std::string flag = f.flag ? std::string("`") + f.flag + "`" : "`--weights a b c`";
-    if (f.flag && f.type == OptionField::Type::kBool && f.style == OptionField::Switch::kPair)
+    if (f.flag && f.type == Field::Type::kBool && f.style == Field::Switch::kPair)
       flag = std::string("`--[no-]") + (f.flag + 2) + "`";
     std::string doc = f.doc;
     for (size_t i = 0; (i = doc.find('|', i)) != std::string::npos; i += 2) doc.replace(i, 1, "\\|");
@@ -223,36 +266,45 @@ std::string OptionTableMarkdown() {
   return md;
 }
 
-std::string OptionField::Text(const EstimatorOptions& options) const {
+}  // namespace
+
+std::string OptionTableMarkdown() { return MarkdownRows(EstimatorOptionFields(), EstimatorOptions{}); }
+
+std::string TrackerOptionTableMarkdown() { return MarkdownRows(TrackerOptionFields(), TrackerOptions{}); }
+
+template <class Options>
+std::string BasicOptionField<Options>::Text(const Options& options) const {
   switch (type) {
-    case Type::kInt: return std::to_string(Get<int>(options));
-    case Type::kSeed: return std::to_string(Get<uint64_t>(options));
-    case Type::kDouble: return DoubleText(Get<double>(options));
-    case Type::kBool: return kOnOff[Get<bool>(options) ? 1 : 0];
+    case Type::kInt: return std::to_string(this->template Get<int>(options));
+    case Type::kSeed: return std::to_string(this->template Get<uint64_t>(options));
+    case Type::kDouble: return DoubleText(this->template Get<double>(options));
+    case Type::kBool: return kOnOff[this->template Get<bool>(options) ? 1 : 0];
     case Type::kEnum: {
-      const int v = Get<int>(options);
+      const int v = this->template Get<int>(options);
       return v >= 0 && static_cast<size_t>(v) < names.size() ? names[static_cast<size_t>(v)] : "unknown";
     }
   }
   return "";
 }
 
-bool OptionField::Parse(const std::string& text, EstimatorOptions* options) const {
+template <class Options>
+bool BasicOptionField<Options>::Parse(const std::string& text, Options* options) const {
   if (type == Type::kBool) {
     if (text != "on" && text != "off") return false;
-    Ref<bool>(*options) = text == "on";
+    this->template Ref<bool>(*options) = text == "on";
     return true;
   }
   if (type == Type::kEnum)
     for (size_t i = 0; i < names.size(); ++i)
       if (text == names[i]) {
-        Ref<int>(*options) = static_cast<int>(i);
+        this->template Ref<int>(*options) = static_cast<int>(i);
         return true;
       }
   return false;
 }
 
-std::string OptionField::BoundsText() const {
+template <class Options>
+std::string BasicOptionField<Options>::BoundsText() const {
   if (type == Type::kBool) return "on, off";
   if (type == Type::kEnum) return ChoicesText(names);
   if (type == Type::kSeed) return "[0, 2^64 - 1]";
@@ -261,9 +313,10 @@ std::string OptionField::BoundsText() const {
   return std::string(min_open ? "(" : "[") + BoundText(min) + ", " + BoundText(max) + (max_open ? ")" : "]");
 }
 
-std::string OptionField::CheckBounds(const EstimatorOptions& options) const {
+template <class Options>
+std::string BasicOptionField<Options>::CheckBounds(const Options& options) const {
   if (type != Type::kInt && type != Type::kDouble) return "";
-  const double v = type == Type::kInt ? static_cast<double>(Get<int>(options)) : Get<double>(options);
+  const double v = type == Type::kInt ? static_cast<double>(this->template Get<int>(options)) : this->template Get<double>(options);
   const bool ok = std::isfinite(v) && (min_open ? v > min : v >= min) && (max_open ? v < max : v <= max);
   if (ok) return "";
   const std::string unit_text = *unit && std::string(unit) != "pixels" ? std::string(" ") + unit : "";
@@ -273,5 +326,8 @@ std::string OptionField::CheckBounds(const EstimatorOptions& options) const {
                                               : "must lie in " + bounds;
   return std::string(key) + " " + rule + unit_text + ", got " + Text(options);
 }
+
+template struct BasicOptionField<EstimatorOptions>;
+template struct BasicOptionField<TrackerOptions>;
 
 }  // namespace mcpose

@@ -22,15 +22,21 @@ render::PixelRect ClipBox(double x, double y, double w, double h, int width, int
   return r;
 }
 
+}  // namespace mcpose::engine
+
+namespace mcpose {
+
 Status CheckBox(const Detection& d, const Intrinsics& K) {
-  if (!(std::isfinite(d.score) && d.score >= 0)) return InvalidArgument("score must be finite and >= 0");
-  if (!(std::isfinite(d.x) && std::isfinite(d.y) && std::isfinite(d.w) && std::isfinite(d.h) && d.w > 0 && d.h > 0))
-    return InvalidArgument("box must be finite with positive size");
-  if (ClipBox(d.x, d.y, d.w, d.h, K.width, K.height).empty())
+  if (const std::string problem = CheckDetectionBox(d); !problem.empty()) return InvalidArgument(problem);
+  if (engine::ClipBox(d.x, d.y, d.w, d.h, K.width, K.height).empty())
     return InvalidArgument("box " + BoxText(d) + " lies outside the " + std::to_string(K.width) + "x" +
                            std::to_string(K.height) + " image");
   return Status::Ok();
 }
+
+}  // namespace mcpose
+
+namespace mcpose::engine {
 
 int BoxStride(const render::PixelRect& rect, const EngineOptions& options) {
   int s = std::max(1, options.pixel_stride);

@@ -28,9 +28,6 @@ namespace mcpose::engine {
 // Clips a detection box [x, x + w) x [y, y + h) to the image and rounds it outwards to whole
 // pixels. Returns an empty rect if nothing of it lies in the image.
 render::PixelRect ClipBox(double x, double y, double w, double h, int width, int height);
-// Ok, or an error saying what is wrong with the box: a non-finite or negative score, a
-// non-finite or empty box, or one that lies outside the image.
-Status CheckBox(const Detection& d, const Intrinsics& K);
 // The pixel stride of a box: options.pixel_stride, or the smallest larger one whose grid holds
 // at most options.max_grid_pixels pixels (when that is > 0).
 int BoxStride(const render::PixelRect& rect, const EngineOptions& options);

@@ -106,7 +106,8 @@ TEST(BoxScorer, RejectsBadInputNamingTheBox) {
   check({}, "no boxes");
   check({Detection{1, 1, 5, 0.9, 500, 10, 20, 20}}, "box 0 of obj_id 5: box [500, 10, 20, 20] lies outside");
   check({Detection{1, 1, 5, 0.9, 10, 10, 20, 20}, Detection{1, 1, 5, -1, 10, 10, 20, 20}}, "box 1 of obj_id 5: score");
-  check({Detection{1, 1, 5, 0.9, 10, 10, INFINITY, 20}}, "positive size");
+  check({Detection{1, 1, 5, 0.9, 10, 10, INFINITY, 20}}, "finite");
+  check({Detection{1, 1, 5, 3, 10, 10, 20, 20}}, "score must be a finite number in [0, 1]");
   check({Detection{1, 1, 5, 0.9, 10, 10, 20, 20}, Detection{1, 1, 6, 0.9, 10, 10, 20, 20}}, "different classes");
   DepthImage small = s.depth;
   small.width = 100;

@@ -15,7 +15,7 @@
 #include "engine/context.h"
 #include "engine/twins.h"
 #include "score/weight.h"
-#include "synth/photometric.h"
+#include "mcpose/photometric.h"
 #include "synthetic_mesh.h"
 #include "synthetic_scene.h"
 

@@ -13,7 +13,7 @@
 
 #include <Eigen/Core>
 
-#include "appearance/colour_grid.h"
+#include "score/colour_grid.h"
 #include "core/rest_pose.h"
 #include "engine/raster_cores.h"
 #include "mcpose/mesh.h"

@@ -190,7 +190,7 @@ TEST(Estimator, RejectsBadBoxesAndMismatchedInputs) {
   };
   check({}, "no boxes");
   check({Detection{1, 1, 7, 0.9, 500, 10, 20, 20}}, "outside");
-  check({Detection{1, 1, 7, 0.9, 10, 10, 0, 20}}, "positive size");
+  check({Detection{1, 1, 7, 0.9, 10, 10, 0, 20}}, "positive");
   check({Detection{1, 1, 7, NAN, 10, 10, 20, 20}}, "score");
   check({Detection{1, 1, 7, 0.9, 10, 10, 20, 20}, Detection{1, 1, 8, 0.9, 10, 10, 20, 20}}, "different classes");
   Intrinsics bad = s.K;

@@ -8,14 +8,6 @@
 
 namespace mcpose::engine {
 
-double BoxIou(const Detection& a, const Detection& b) {
-  const double ix = std::max(0.0, std::min(a.x + a.w, b.x + b.w) - std::max(a.x, b.x));
-  const double iy = std::max(0.0, std::min(a.y + a.h, b.y + b.h) - std::max(a.y, b.y));
-  const double inter = ix * iy;
-  const double uni = a.w * a.h + b.w * b.h - inter;
-  return uni > 0 ? inter / uni : 0.0;
-}
-
 std::vector<std::vector<int>> ClusterBoxes(std::span<const Detection> boxes, double min_iou) {
   std::vector<int> order(boxes.size());
   std::iota(order.begin(), order.end(), 0);

@@ -20,9 +20,6 @@
 
 namespace mcpose::engine {
 
-// Intersection over union of two boxes; 0 when either is empty.
-double BoxIou(const Detection& a, const Detection& b);
-
 // Boxes of one class grouped into objects, as non-maximum suppression groups them: boxes in
 // order of score (ties: the earlier box first), each joins the first cluster whose leader (its
 // highest-scored box) it overlaps with IoU >= min_iou, or leads a new one. Each cluster lists

@@ -1,4 +1,4 @@
-#include "engine/pipeline.h"
+#include "mcpose/run.h"
 
 #include <algorithm>
 #include <chrono>
@@ -8,7 +8,7 @@
 
 #include <spdlog/spdlog.h>
 
-#include "core/physical_limits.h"
+#include "mcpose/limits.h"
 #include "core/rng.h"
 #include "engine/box_scorer.h"
 #include "engine/instances.h"
@@ -158,7 +158,7 @@ Status CheckBoxesOfImage(const FrameKey& key, const std::map<int, std::vector<De
                          const Intrinsics& K, const std::string& detections_source) {
   for (const auto& [obj_id, dets] : by_class)
     for (const Detection& d : dets)
-      if (Status st = engine::CheckBox(d, K); !st.ok())
+      if (Status st = CheckBox(d, K); !st.ok())
         return InvalidArgument(detections_source + ": obj_id " + std::to_string(obj_id) + " in scene_id " +
                                std::to_string(key.scene_id) + ", image_id " + std::to_string(key.image_id) + ": " +
                                st.message());

@@ -6,8 +6,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/physical_limits.h"
-#include "io/json_util.h"
+#include "mcpose/limits.h"
+#include "mcpose/json_util.h"
 #include "mcpose/bop19.h"
 
 namespace mcpose {

@@ -9,13 +9,13 @@
 #include <mutex>
 #include <optional>
 
-#include "core/physical_limits.h"
-#include "io/io_util.h"
+#include "mcpose/limits.h"
+#include "mcpose/io_util.h"
 #include "io/jpeg_io.h"
-#include "io/json_util.h"
+#include "mcpose/json_util.h"
 #include "io/obj_io.h"
 #include "io/ply_io.h"
-#include "io/png_io.h"
+#include "mcpose/png_io.h"
 #include "io/ycbv_names.h"
 
 namespace mcpose::io {

@@ -9,7 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "io/io_util.h"
+#include "mcpose/io_util.h"
 #include "io/ycbv_names.h"
 #include "mcpose/dataset.h"
 #include "test_data.h"

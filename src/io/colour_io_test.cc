@@ -6,11 +6,11 @@
 
 #include <gtest/gtest.h>
 
-#include "io/io_util.h"
+#include "mcpose/io_util.h"
 #include "io/jpeg_io.h"
 #include "io/obj_io.h"
 #include "io/ply_io.h"
-#include "io/png_io.h"
+#include "mcpose/png_io.h"
 #include "mcpose/dataset.h"
 #include "synthetic_mesh.h"
 #include "test_data.h"

@@ -2,13 +2,14 @@
 // "time" (optional)}, ...].
 #include "mcpose/detection.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <exception>
 
-#include "core/physical_limits.h"
-#include "io/io_util.h"
-#include "io/json_util.h"
+#include "mcpose/limits.h"
+#include "mcpose/io_util.h"
+#include "mcpose/json_util.h"
 
 namespace mcpose {
 namespace {
@@ -54,9 +55,15 @@ std::string ParseEntry(const json& entry, Detection* d) {
 
 }  // namespace
 
-std::string CheckDetection(const Detection& d) {
-  if (d.scene_id < 0 || d.image_id < 0) return "scene_id and image_id must be >= 0";
-  if (d.obj_id < 1) return "category_id must be a positive integer";
+double BoxIou(const Detection& a, const Detection& b) {
+  const double ix = std::max(0.0, std::min(a.x + a.w, b.x + b.w) - std::max(a.x, b.x));
+  const double iy = std::max(0.0, std::min(a.y + a.h, b.y + b.h) - std::max(a.y, b.y));
+  const double inter = ix * iy;
+  const double uni = a.w * a.h + b.w * b.h - inter;
+  return uni > 0 ? inter / uni : 0.0;
+}
+
+std::string CheckDetectionBox(const Detection& d) {
   if (!std::isfinite(d.score) || d.score < 0 || d.score > 1) {
     return "score must be a finite number in [0, 1], got " + Number(d.score);
   }
@@ -70,6 +77,13 @@ std::string CheckDetection(const Detection& d) {
     if (std::abs(v) > limits::kMaxBoxPx)
       return "bbox " + BoxText(d) + " has a value outside +-" + Number(limits::kMaxBoxPx) + " px";
   }
+  return {};
+}
+
+std::string CheckDetection(const Detection& d) {
+  if (d.scene_id < 0 || d.image_id < 0) return "scene_id and image_id must be >= 0";
+  if (d.obj_id < 1) return "category_id must be a positive integer";
+  if (std::string problem = CheckDetectionBox(d); !problem.empty()) return problem;
   if (!std::isfinite(d.time_s)) return "time must be finite";
   return {};
 }

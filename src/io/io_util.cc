@@ -1,4 +1,4 @@
-#include "io/io_util.h"
+#include "mcpose/io_util.h"
 
 #include <cerrno>
 #include <charconv>
@@ -14,7 +14,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "core/physical_limits.h"
+#include "mcpose/limits.h"
 
 namespace mcpose::io {
 

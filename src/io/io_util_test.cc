@@ -1,4 +1,4 @@
-#include "io/io_util.h"
+#include "mcpose/io_util.h"
 
 #include <filesystem>
 #include <fstream>
@@ -9,8 +9,8 @@
 
 #include <gtest/gtest.h>
 
-#include "core/physical_limits.h"
-#include "io/json_util.h"
+#include "mcpose/limits.h"
+#include "mcpose/json_util.h"
 #include "test_data.h"
 
 namespace mcpose::io {

@@ -7,9 +7,9 @@
 #include <fstream>
 #include <memory>
 
-#include "core/physical_limits.h"
-#include "io/io_util.h"
-#include "io/png_io.h"
+#include "mcpose/limits.h"
+#include "mcpose/io_util.h"
+#include "mcpose/png_io.h"
 
 namespace mcpose::io {
 

@@ -1,4 +1,4 @@
-#include "io/json_util.h"
+#include "mcpose/json_util.h"
 
 #include <cmath>
 #include <exception>
@@ -7,8 +7,8 @@
 #include <stdexcept>
 #include <vector>
 
-#include "core/physical_limits.h"
-#include "io/io_util.h"
+#include "mcpose/limits.h"
+#include "mcpose/io_util.h"
 
 namespace mcpose::io {
 

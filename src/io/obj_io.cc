@@ -14,8 +14,8 @@
 
 #include <spdlog/spdlog.h>
 
-#include "core/physical_limits.h"
-#include "io/io_util.h"
+#include "mcpose/limits.h"
+#include "mcpose/io_util.h"
 #include "io/jpeg_io.h"
 
 namespace mcpose::io {

@@ -1,4 +1,4 @@
-#include "io/options_json.h"
+#include "mcpose/options_json.h"
 
 #include <cstdint>
 
@@ -13,18 +13,27 @@ nlohmann::json::json_pointer OptionPointer(const char* key) {
   return nlohmann::json::json_pointer(path);
 }
 
+namespace {
+
+// The value of field `f` of `o` as JSON: a number, true/false, or an enum's name.
+template <class Options>
+nlohmann::json FieldJson(const BasicOptionField<Options>& f, const Options& o) {
+  using Type = typename BasicOptionField<Options>::Type;
+  switch (f.type) {
+    case Type::kInt: return f.template Get<int>(o);
+    case Type::kSeed: return f.template Get<uint64_t>(o);
+    case Type::kDouble: return f.template Get<double>(o);
+    case Type::kBool: return f.template Get<bool>(o);
+    case Type::kEnum: return f.Text(o);
+  }
+  return nullptr;
+}
+
+}  // namespace
+
 nlohmann::json OptionsToJson(const EstimatorOptions& o) {
   nlohmann::json j = nlohmann::json::object();
-  for (const OptionField& f : EstimatorOptionFields()) {
-    nlohmann::json& v = j[OptionPointer(f.key)];
-    switch (f.type) {
-      case OptionField::Type::kInt: v = f.Get<int>(o); break;
-      case OptionField::Type::kSeed: v = f.Get<uint64_t>(o); break;
-      case OptionField::Type::kDouble: v = f.Get<double>(o); break;
-      case OptionField::Type::kBool: v = f.Get<bool>(o); break;
-      case OptionField::Type::kEnum: v = f.Text(o); break;
-    }
-  }
+  for (const OptionField& f : EstimatorOptionFields()) j[OptionPointer(f.key)] = FieldJson(f, o);
   return j;
 }
 
@@ -79,16 +88,10 @@ nlohmann::json CountersToJson(const EngineCounters& c) {
 }
 
 nlohmann::json TrackerOptionsToJson(const TrackerOptions& t) {
-  return {{"samples", t.samples},
-          {"iterations", t.iterations},
-          {"stop_weight", t.stop_weight},
-          {"motion_sigma_t_m", t.motion_sigma_t_m},
-          {"motion_sigma_r_rad", t.motion_sigma_r_rad},
-          {"box_margin", t.box_margin},
-          {"refine_iterations", t.refine_iterations},
-          {"lost_fit", t.lost_fit},
-          {"lost_visible", t.lost_visible},
-          {"estimator", OptionsToJson(t.estimator)}};
+  nlohmann::json j = nlohmann::json::object();
+  for (const TrackerOptionField& f : TrackerOptionFields()) j[f.key] = FieldJson(f, t);
+  j["estimator"] = OptionsToJson(t.estimator);
+  return j;
 }
 
 }  // namespace mcpose::io

@@ -11,8 +11,8 @@
 #include <string_view>
 #include <vector>
 
-#include "core/physical_limits.h"
-#include "io/io_util.h"
+#include "mcpose/limits.h"
+#include "mcpose/io_util.h"
 
 namespace mcpose::io {
 namespace {

@@ -1,4 +1,4 @@
-#include "io/png_io.h"
+#include "mcpose/png_io.h"
 
 #include <png.h>
 
@@ -12,8 +12,8 @@
 #include <new>
 #include <string_view>
 
-#include "core/physical_limits.h"
-#include "io/io_util.h"
+#include "mcpose/limits.h"
+#include "mcpose/io_util.h"
 
 namespace mcpose::io {
 namespace {

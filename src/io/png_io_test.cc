@@ -1,4 +1,4 @@
-#include "io/png_io.h"
+#include "mcpose/png_io.h"
 
 #include <gtest/gtest.h>
 
@@ -7,7 +7,7 @@
 
 #include <zlib.h>
 
-#include "io/io_util.h"
+#include "mcpose/io_util.h"
 #include "test_data.h"
 
 namespace mcpose {

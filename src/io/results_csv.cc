@@ -5,8 +5,8 @@
 #include <cstdio>
 #include <exception>
 
-#include "core/physical_limits.h"
-#include "io/io_util.h"
+#include "mcpose/limits.h"
+#include "mcpose/io_util.h"
 #include "io/results_csv.h"
 
 namespace mcpose {

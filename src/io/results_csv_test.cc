@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "io/io_util.h"
+#include "mcpose/io_util.h"
 #include "test_data.h"
 
 namespace mcpose {

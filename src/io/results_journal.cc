@@ -1,4 +1,4 @@
-#include "io/results_journal.h"
+#include "mcpose/results_journal.h"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -13,8 +13,8 @@
 #include <set>
 #include <tuple>
 
-#include "io/io_util.h"
-#include "io/options_json.h"
+#include "mcpose/io_util.h"
+#include "mcpose/options_json.h"
 #include "io/results_csv.h"
 #include "mcpose/version.h"
 

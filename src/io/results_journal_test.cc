@@ -1,11 +1,11 @@
-#include "io/results_journal.h"
+#include "mcpose/results_journal.h"
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
 
-#include "io/io_util.h"
+#include "mcpose/io_util.h"
 #include "io/results_csv.h"
 #include "test_data.h"
 

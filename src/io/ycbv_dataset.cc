@@ -11,10 +11,10 @@
 #include <filesystem>
 #include <map>
 
-#include "core/physical_limits.h"
-#include "io/io_util.h"
+#include "mcpose/limits.h"
+#include "mcpose/io_util.h"
 #include "io/obj_io.h"
-#include "io/png_io.h"
+#include "mcpose/png_io.h"
 
 namespace mcpose::io {
 namespace {

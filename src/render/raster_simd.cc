@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "render/raster_fixed.h"
-#include "render/simd_targets.h"
+#include "mcpose/simd.h"
 
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "render/raster_simd.cc"

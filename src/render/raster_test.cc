@@ -1,6 +1,6 @@
 #include "render/raster.h"
 #include "render/raster_fixed.h"
-#include "render/simd_targets.h"
+#include "mcpose/simd.h"
 
 #include <cmath>
 #include <cstdio>

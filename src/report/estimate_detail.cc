@@ -1,6 +1,8 @@
-#include "report/estimate_detail.h"
+#include "mcpose/estimate_detail.h"
 
-#include "io/json_util.h"
+#include "mcpose/json_util.h"
+#include "mcpose/options_json.h"
+#include "mcpose/simd.h"
 
 namespace mcpose::report {
 namespace {
@@ -80,6 +82,86 @@ StatusOr<EstimateDetail> ReadEstimateDetail(const std::string& path) {
     detail.objects.push_back(std::move(d));
   }
   return detail;
+}
+
+namespace {
+
+nlohmann::json ObjectJson(const ObjectRecord& r) {
+  const ObjectEstimate& e = r.estimate;
+  nlohmann::json R = nlohmann::json::array(), t = nlohmann::json::array();
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) R.push_back(e.T_cam_obj.R(i, j));
+  for (int i = 0; i < 3; ++i) t.push_back(e.T_cam_obj.t(i) * 1000.0);
+  nlohmann::json per_iteration = nlohmann::json::array();
+  for (const IterationSummary& it : e.iterations)
+    per_iteration.push_back({{"mean_weight", it.mean_weight},
+                             {"best_weight", it.best_weight},
+                             {"score_ms", it.score_ms},
+                             {"iteration_ms", it.iteration_ms}});
+  return {
+      {"scene_id", r.key.scene_id},
+      {"im_id", r.key.image_id},
+      {"obj_id", r.obj_id},
+      {"instance", r.instance},
+      {"name", r.name},
+      {"boxes", r.num_boxes},
+      {"chosen_box", {{"bbox", {r.chosen_box.x, r.chosen_box.y, r.chosen_box.w, r.chosen_box.h}},
+                      {"score", r.chosen_box.score},
+                      {"index", e.best_box}}},
+      {"iterations", e.iterations.size()},
+      {"best_weight", e.best_weight},
+      {"final_mean_weight", e.final_mean_weight()},
+      {"per_iteration", per_iteration},
+      {"R", R},
+      {"t_mm", t},
+      {"time_s", r.time_s},
+      {"box_triangles", e.box_triangles},
+      {"depth_pixels_read", e.depth_pixels_read},
+      {"colour", e.colour},
+      {"twins", {{"ran", e.twins.ran}, {"candidates", e.twins.candidates}, {"winner", e.twins.winner},
+                 {"winner_weight", e.twins.winner_weight}, {"margin", e.twins.margin},
+                 {"refine_iterations", e.twins.refine_iterations}, {"ms", e.twins.ms}}},
+      {"refine", {{"ran", e.refine.ran}, {"accepted", e.refine.accepted}, {"iterations", e.refine.iterations},
+                  {"pairs", e.refine.pairs}, {"rms_before_m", e.refine.rms_before_m},
+                  {"rms_after_m", e.refine.rms_after_m}, {"weight_before", e.refine.weight_before},
+                  {"weight_after", e.refine.weight_after}, {"ms", e.refine.ms}}},
+      {"counters", io::CountersToJson(e.Totals())},
+  };
+}
+
+nlohmann::json PoseJson(const SE3& T, nlohmann::json* t_mm) {
+  nlohmann::json R = nlohmann::json::array();
+  *t_mm = nlohmann::json::array();
+  for (int i = 0; i < 9; ++i) R.push_back(T.R(i / 3, i % 3));
+  for (int i = 0; i < 3; ++i) t_mm->push_back(1000 * T.t(i));
+  return R;
+}
+
+}  // namespace
+
+nlohmann::json EstimateDetailJson(const RunReport& report, const EstimatorOptions& options, const std::string& dataset,
+                                  const std::string& models, const std::string& detections) {
+  nlohmann::json objects = nlohmann::json::array();
+  for (const ObjectRecord& r : report.objects) objects.push_back(ObjectJson(r));
+  nlohmann::json o = io::OptionsToJson(options);
+  o["engine"]["simd_target"] = render::DispatchedSimdTarget();
+  return {{"dataset", dataset}, {"models", models}, {"detections", detections}, {"options", o}, {"objects", objects}};
+}
+
+nlohmann::json TrackDetailJson(const TrackReport& report, const TrackerOptions& options, const std::string& dataset,
+                               int video) {
+  nlohmann::json steps = nlohmann::json::array();
+  for (const TrackRecord& r : report.steps) {
+    const TrackStep& step = r.step;
+    nlohmann::json t;
+    const nlohmann::json R = PoseJson(step.T_cam_obj, &t);
+    steps.push_back({{"scene_id", r.key.scene_id}, {"im_id", r.key.image_id}, {"obj_id", step.obj_id},
+                     {"name", r.name}, {"initialised", step.initialised}, {"lost", step.lost},
+                     {"weight", step.weight}, {"fit", step.fit}, {"visible", step.visible},
+                     {"iterations", step.iterations}, {"box", {step.box.x, step.box.y, step.box.w, step.box.h}},
+                     {"ms", step.ms}, {"R", R}, {"t_mm", t}});
+  }
+  return {{"dataset", dataset}, {"video", video}, {"options", io::TrackerOptionsToJson(options)}, {"steps", steps}};
 }
 
 }  // namespace mcpose::report

@@ -1,6 +1,6 @@
 // The report folder: sections per image built from the evaluation, drawn with the overlay
 // functions, written as one HTML page with inline SVG and PNG images beside it.
-#include "report/report.h"
+#include "mcpose/report.h"
 
 #include <algorithm>
 #include <cmath>
@@ -13,9 +13,9 @@
 #include <tuple>
 
 #include "engine/box_scorer.h"
-#include "engine/pipeline.h"
-#include "io/io_util.h"
-#include "io/png_io.h"
+#include "mcpose/run.h"
+#include "mcpose/io_util.h"
+#include "mcpose/png_io.h"
 #include "report/overlay.h"
 #include "report/svg.h"
 

@@ -1,4 +1,4 @@
-#include "report/report.h"
+#include "mcpose/report.h"
 
 #include <filesystem>
 #include <fstream>
@@ -8,7 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "eval/fake_dataset_test_util.h"
-#include "io/io_util.h"
+#include "mcpose/io_util.h"
 #include "test_data.h"
 
 namespace mcpose::report {

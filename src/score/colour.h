@@ -3,7 +3,7 @@
 //
 // Deferred: the raster cores render depth only; for every depth-inlier pixel the kernel
 // back-projects the rendered depth to the camera point it shows, maps it into the model frame
-// and reads the model's colour there from a model-space grid (appearance/colour_grid.h, baked
+// and reads the model's colour there from a model-space grid (score/colour_grid.h, baked
 // from a texture or vertex colours). The colour's resolution is that grid's, whatever mesh
 // level rendered the depth.
 //

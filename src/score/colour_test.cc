@@ -8,7 +8,7 @@
 #include <Eigen/Geometry>
 
 #include "core/rng.h"
-#include "render/simd_targets.h"
+#include "mcpose/simd.h"
 #include "score/inlier.h"
 
 namespace mcpose::score {

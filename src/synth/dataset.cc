@@ -1,4 +1,4 @@
-#include "synth/dataset.h"
+#include "mcpose/synth.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -7,11 +7,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "io/io_util.h"
-#include "io/json_util.h"
+#include "mcpose/io_util.h"
+#include "mcpose/json_util.h"
 #include "io/obj_io.h"
 #include "io/ply_io.h"
-#include "io/png_io.h"
+#include "mcpose/png_io.h"
 #include "io/ycbv_names.h"
 #include "mcpose/dataset.h"
 #include "mcpose/detection.h"

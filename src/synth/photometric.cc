@@ -1,13 +1,15 @@
-#include "synth/photometric.h"
+#include "mcpose/photometric.h"
 
 #include <algorithm>
 #include <array>
+#include <functional>
+#include <string>
 #include <cmath>
 #include <vector>
 
-#include "core/physical_limits.h"
+#include "mcpose/limits.h"
 #include "core/rng.h"
-#include "io/io_util.h"
+#include "mcpose/io_util.h"
 #include "io/jpeg_io.h"
 
 namespace mcpose::synth {
@@ -173,6 +175,10 @@ StatusOr<ColourImage> ApplyPhotometric(const PhotometricTransform& t, const Colo
       break;
   }
   return out;
+}
+
+uint64_t PhotometricFrameSeed(uint64_t seed, const std::string& frame_name) {
+  return HashCombine(seed, std::hash<std::string>{}(frame_name));
 }
 
 }  // namespace mcpose::synth

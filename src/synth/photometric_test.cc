@@ -1,4 +1,4 @@
-#include "synth/photometric.h"
+#include "mcpose/photometric.h"
 
 #include <gtest/gtest.h>
 

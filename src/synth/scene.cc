@@ -1,4 +1,4 @@
-#include "synth/scene.h"
+#include "mcpose/synth_scene.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,11 +7,11 @@
 
 #include <Eigen/Geometry>
 
-#include "appearance/colour_grid.h"
+#include "score/colour_grid.h"
 #include "core/rng.h"
 #include "render/raster.h"
 #include "render/surface_distance.h"
-#include "synth/photometric.h"
+#include "mcpose/photometric.h"
 #include "core/rest_pose.h"
 
 namespace mcpose::synth {

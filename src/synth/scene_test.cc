@@ -1,4 +1,4 @@
-#include "synth/scene.h"
+#include "mcpose/synth_scene.h"
 
 #include <gtest/gtest.h>
 

@@ -1,5 +1,7 @@
 #include "mcpose/tracker.h"
 
+#include "mcpose/option_table.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -11,7 +13,8 @@
 #include "engine/context.h"
 #include "engine/estimate.h"
 #include "engine/filter_loop.h"
-#include "engine/pipeline.h"
+#include "mcpose/option_table.h"
+#include "mcpose/run.h"
 #include "engine/refinement.h"
 #include "score/inlier.h"
 #include "track/motion.h"
@@ -89,20 +92,8 @@ bool TrackerOptions::IsValid(std::string* error) const {
   };
   std::string inner;
   if (!estimator.IsValid(&inner)) return fail("estimator: " + inner);
-  if (samples < 1 || samples > limits::kMaxSamples)
-    return fail("samples must lie in [1, " + std::to_string(limits::kMaxSamples) + "]");
-  if (iterations < 1 || iterations > limits::kMaxIterations)
-    return fail("iterations must lie in [1, " + std::to_string(limits::kMaxIterations) + "]");
-  if (!std::isfinite(stop_weight)) return fail("stop_weight must be finite");
-  if (!(motion_sigma_t_m >= 0 && motion_sigma_t_m <= limits::kMaxSigmaM))
-    return fail("motion_sigma_t_m must lie in [0, 10] m");
-  if (!(motion_sigma_r_rad >= 0 && motion_sigma_r_rad <= limits::kMaxSigmaRad))
-    return fail("motion_sigma_r_rad must lie in [0, 2 pi] rad");
-  if (!(box_margin >= 0 && box_margin <= 2)) return fail("box_margin must lie in [0, 2]");
-  if (refine_iterations < 0 || refine_iterations > limits::kMaxIterations)
-    return fail("refine_iterations must lie in [0, " + std::to_string(limits::kMaxIterations) + "]");
-  if (!(lost_fit >= 0 && lost_fit <= 1)) return fail("lost_fit must lie in [0, 1]");
-  if (!(lost_visible >= 0 && lost_visible <= 1)) return fail("lost_visible must lie in [0, 1]");
+  for (const TrackerOptionField& f : TrackerOptionFields())
+    if (std::string problem = f.CheckBounds(*this); !problem.empty()) return fail(problem);
   return true;
 }
 
