@@ -15,6 +15,7 @@
 #include "mcpose/options_json.h"
 #include "mcpose/results_journal.h"
 #include "mcpose/option_table.h"
+#include "mcpose/simd.h"
 
 namespace mcpose {
 namespace {
@@ -26,6 +27,13 @@ void Leaves(const nlohmann::json& j, const std::string& at, std::set<std::string
     return;
   }
   for (const auto& [key, value] : j.items()) Leaves(value, at + "/" + key, out);
+}
+
+// The last SIMD target this CPU offers (EMU128 where it is compiled): a --simd-target that is
+// not the default.
+std::string LeastSimdTarget() {
+  const std::string all = render::SimdTargetsAvailable();
+  return all.substr(all.rfind(' ') + 1);
 }
 
 struct FlagCase {
@@ -87,6 +95,7 @@ const std::vector<FlagCase>& Cases() {
       {{"--no-cluster-culling"}, {"/engine/cluster_culling"}},
       {{"--no-batched-setup"}, {"/engine/batched_setup"}},
       {{"--threads", "3"}, {"/engine/threads"}},
+      {{"--simd-target", LeastSimdTarget()}, {"/engine/simd_target"}},
   };
   return cases;
 }
@@ -119,8 +128,9 @@ TEST(OptionFlags, EveryFieldHasAFlagThatSetsItAloneAndChangesTheFingerprint) {
     ASSERT_TRUE(back.ok()) << joined << ": " << back.status().ToString();
     EXPECT_EQ(io::OptionsToJson(*back), j) << joined;
     covered.insert(changed.begin(), changed.end());
-    // The thread count changes no result, so it is left out of the fingerprint.
-    const bool result_field = c.changed != std::set<std::string>{"/engine/threads"};
+    // The thread count and the SIMD target change no result: they are left out of the fingerprint.
+    const bool result_field = c.changed != std::set<std::string>{"/engine/threads"} &&
+                              c.changed != std::set<std::string>{"/engine/simd_target"};
     EXPECT_EQ(io::RunFingerprint(*o, boxes, source) != base_print, result_field) << joined;
   }
   // No field without a flag: one added to the options' JSON needs a case here, and a flag.

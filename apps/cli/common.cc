@@ -101,7 +101,6 @@ Status KeepScoresAtLeast(double min_score, const std::string& source, std::vecto
   return Status::Ok();
 }
 
-std::string ActiveSimdTarget() { return render::DispatchedSimdTarget(); }
 std::string SimdTargets() { return render::SimdTargetsAvailable(); }
 
 }  // namespace mcpose::cli

@@ -57,8 +57,7 @@ Status CheckOutputsOutsideDataset(const Dataset& dataset, std::initializer_list<
 // value outside [0, 1], and a threshold no detection of `source` meets.
 Status KeepScoresAtLeast(double min_score, const std::string& source, std::vector<Detection>* detections);
 
-// The SIMD target the kernels dispatch to now, and those this build and CPU offer.
-std::string ActiveSimdTarget();
+// The SIMD targets this build and CPU offer, best first.
 std::string SimdTargets();
 
 }  // namespace mcpose::cli

@@ -9,6 +9,7 @@
 #include "mcpose/io_util.h"
 #include "commands.h"
 #include "mcpose/options_json.h"
+#include "mcpose/simd.h"
 #include "mcpose/dataset.h"
 
 namespace mcpose::cli {
@@ -109,7 +110,7 @@ Status RunBenchCommand(BenchArgs& a) {
       header_printed = true;
       std::printf("machine: %s\nengine %s (SIMD target %s), LOD %.2f px, pixel stride %d, %d samples, "
                   "%d iterations, threads %d\n",
-                  machine.c_str(), RasterBackendName(o.engine.backend), ActiveSimdTarget().c_str(),
+                  machine.c_str(), RasterBackendName(o.engine.backend), render::DispatchedSimdTarget(o.engine.simd_target).c_str(),
                   o.engine.lod_error_px, o.engine.pixel_stride, o.samples, a.options.iterations, o.engine.threads);
       std::printf("%-20s %6s %5s %8s %9s | %8s %17s | %8s %17s %9s | %s\n", "object", "tris", "lod", "culled",
                   "frags/it", "r+i ms", "(min-max)", "full ms", "(min-max)", "hyp/s",
@@ -147,7 +148,7 @@ Status RunBenchCommand(BenchArgs& a) {
     nlohmann::json arr = nlohmann::json::array();
     for (const auto& r : objects) arr.push_back(ObjectJson(r));
     nlohmann::json options = io::OptionsToJson(o);
-    options["engine"]["simd_target"] = ActiveSimdTarget();
+    options["engine"]["simd_target"] = render::DispatchedSimdTarget(o.engine.simd_target);
     options["iterations"] = a.options.iterations;
     options["render_repeats"] = a.options.render_repeats;
     nlohmann::json doc = {{"machine",

@@ -21,19 +21,17 @@ struct EstimatorFlags {
   EstimatorOptions options;
   std::map<std::string, std::string> text;          // enum and on|off fields by key, as given
   std::map<std::string, const CLI::Option*> given;  // the switches of the engine's features
-  std::string simd_target;                          // --simd-target
   std::vector<double> weights;                      // --weights a b c
 
-  // After parsing: applies the enum and on|off fields, --weights and --simd-target; the engine
+  // After parsing: applies the enum and on|off fields and --weights; the engine
   // features not given on the command line are turned off where the chosen backend and LOD
   // setting cannot use them (so `--engine scalar` needs nothing else), while one given
-  // explicitly that has no effect is an error; then validates. Errors name the flag or the
-  // option field.
+  // explicitly that has no effect is an error; then validates (a --simd-target this CPU lacks
+  // included). Errors name the flag or the option field.
   Status Finish();
 };
 
-// Adds the flags of the table's fields in `groups` (OptionGroup bits), and --simd-target with
-// kEngineOptions, bound to `flags`.
+// Adds the flags of the table's fields in `groups` (OptionGroup bits), bound to `flags`.
 void AddEstimatorFlags(CLI::App* cmd, unsigned groups, EstimatorFlags* flags);
 // The tracker's own flags (TrackerOptionFields), bound to `options`.
 void AddTrackerFlags(CLI::App* cmd, TrackerOptions* options);

@@ -93,6 +93,8 @@ const TrackerOptionField* FindTrackerOptionField(const std::string& key);
 std::span<const char* const> InlierModeNames();
 std::span<const char* const> RasterBackendNames();
 std::span<const char* const> ColourSpaceNames();
+// "best", then the SIMD targets this build compiled, best first (SimdTarget).
+std::span<const char* const> SimdTargetNames();
 // The options table of docs/options.md: one row per field (flag, JSON key, default, bounds,
 // unit, doc), in the table's order.
 std::string OptionTableMarkdown();

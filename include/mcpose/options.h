@@ -122,6 +122,11 @@ struct DiffusionOptions {
 
 // Step 2: the engine that renders each sample in its box and counts its inliers. Every speed
 // feature is an option; the reference (Reference()) runs none of them.
+// The SIMD target an estimator's kernels dispatch to: kBest (the best this CPU has), or a cap at
+// the k-th name of SimdTargetNames() (mcpose/option_table.h), e.g. AVX2 on an AVX-512 machine.
+// Every kernel is bit-identical on every target: only the speed changes.
+enum class SimdTarget : int { kBest = 0 };
+
 struct EngineOptions {
   RasterBackend backend = RasterBackend::kSimd;
   bool backface_culling = true;
@@ -146,7 +151,8 @@ struct EngineOptions {
   // Snap each sample's vertices once, then decide and set up its triangles a SIMD vector at a
   // time: bit-identical to the per-triangle setup. Needs a fixed-point backend.
   bool batched_setup = true;
-  int threads = 0;  // raster cores (worker threads); 0 = one per hardware thread
+  int threads = 0;  // worker threads; 0 = one per hardware thread
+  SimdTarget simd_target = SimdTarget::kBest;  // this estimator's threads only
 
   // The float reference on every pixel of the full mesh, with no speed feature: the oracle
   // every fast engine is tested against.

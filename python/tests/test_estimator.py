@@ -109,6 +109,26 @@ def test_one_estimator_shared_by_threads(ycbv):
             assert np.array_equal(got[k][obj_id].T_cam_obj, r.T_cam_obj), (k, obj_id)
 
 
+def test_simd_target_is_per_estimator(ycbv):
+    """Two estimators of one process, one capped at the least SIMD target: each keeps its own
+    (the cap changes nothing else), and both give the same poses."""
+    engine = mcpose.EstimatorOptions().engine
+    choices = [f for f in mcpose._mcpose.option_fields() if f["key"] == "engine.simd_target"][0]["choices"]
+    assert choices[0] == "best" and engine.simd_target == "best"  # then the targets, best first
+    capped = mcpose.Estimator(simd_target=choices[-1], seed=3, threads=2, samples=150, iterations=6)
+    best = mcpose.Estimator(seed=3, threads=2, samples=150, iterations=6)
+    assert capped.options["engine"]["simd_target"] == choices[-1]
+    assert best.options["engine"]["simd_target"] == "best"
+    dets = [d for d in ycbv.detections_from_gt(seed=1) if d["scene_id"] == 49 and d["image_id"] == 1]
+    frame = ycbv.load_frame(49, 1)
+    a, b = capped.estimate_frame(frame, dets, ycbv), best.estimate_frame(frame, dets, ycbv)
+    assert sorted(a) == sorted(b)
+    for obj_id, r in a.items():
+        assert np.array_equal(b[obj_id].T_cam_obj, r.T_cam_obj), obj_id
+    with pytest.raises(ValueError, match="simd-target must be best"):
+        mcpose.Estimator(simd_target="AVX9")
+
+
 def test_options_match_cli_defaults():
     o = mcpose.Estimator().options
     assert o["samples"] == 620 and o["max_iterations"] == 50 and o["seed"] == 0

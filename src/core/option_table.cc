@@ -7,6 +7,9 @@
 #include <cmath>
 #include <limits>
 #include <type_traits>
+#include <vector>
+
+#include <hwy/targets.h>
 
 namespace mcpose {
 
@@ -16,6 +19,16 @@ constexpr std::array<const char*, 2> kInlierNames = {"1d", "3d"};               
 constexpr std::array<const char*, 4> kBackendNames = {"scalar", "fixed", "simd", "float-simd"};  // RasterBackend
 constexpr std::array<const char*, 3> kSpaceNames = {"rgb", "chroma", "intensity-hue"};  // Space
 constexpr std::array<const char*, 2> kOnOff = {"off", "on"};
+
+// "best", then the Highway targets this build compiled, best first (SimdTarget).
+const std::vector<const char*>& SimdNames() {
+  static const std::vector<const char*> names = [] {
+    std::vector<const char*> n = {"best"};
+    for (int64_t bits = HWY_TARGETS; bits != 0; bits &= bits - 1) n.push_back(hwy::TargetName(bits & -bits));
+    return n;
+  }();
+  return names;
+}
 
 template <class T>
 constexpr OptionType TypeOf() {
@@ -152,7 +165,11 @@ const OptionField kFields[] = {
      "(1/16-pixel fixed point) or simd (fixed point a vector at a time)",
      kEngineOptions, Sw::kPair, kBackendNames},
     {MCPOSE_OPTION(engine.threads, "--threads"), 0, limits::kMaxThreads, false, false, "",
-     "Raster cores (worker threads); 0 = all hardware threads", kEngineOptions},
+     "Worker threads; 0 = all hardware threads", kEngineOptions},
+    {MCPOSE_OPTION(engine.simd_target, "--simd-target"), 0, 0, false, false, "",
+     "Cap this estimator's SIMD dispatch at this Highway target (one this CPU has, e.g. AVX2 on an AVX-512 "
+     "machine); best: the best it has; the same results on every target",
+     kEngineOptions, Sw::kPair, SimdNames()},
     {MCPOSE_OPTION(engine.pixel_stride, "--pixel-stride"), 1, 16, false, false, "px",
      "Score every s-th pixel in x and y of each box; 1 with --max-grid-pixels 0 = every pixel", kEngineOptions},
     {MCPOSE_OPTION(engine.max_grid_pixels, "--max-grid-pixels"), 0, kIntMax, false, false, "pixels",
@@ -241,6 +258,7 @@ const TrackerOptionField* FindTrackerOptionField(const std::string& key) {
 std::span<const char* const> InlierModeNames() { return kInlierNames; }
 std::span<const char* const> RasterBackendNames() { return kBackendNames; }
 std::span<const char* const> ColourSpaceNames() { return kSpaceNames; }
+std::span<const char* const> SimdTargetNames() { return SimdNames(); }
 
 std::string ChoicesText(std::span<const char* const> names) {
   std::string s;

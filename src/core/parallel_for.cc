@@ -1,6 +1,7 @@
 #include "core/parallel_for.h"
 
 #include <algorithm>
+#include <utility>
 #include <chrono>
 
 #if defined(__x86_64__) || defined(_M_X64) || defined(__i386__)
@@ -33,11 +34,15 @@ bool SpinFor(int micros, const Done& done) {
 
 }  // namespace
 
-ThreadPool::ThreadPool(int threads) {
+ThreadPool::ThreadPool(int threads, ThreadScope scope) : scope_(std::move(scope)) {
   const int hardware = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   num_threads_ = threads > 0 ? threads : hardware;
   spin_micros_ = num_threads_ <= hardware ? kSpinMicros : 0;
-  for (int i = 1; i < num_threads_; ++i) workers_.emplace_back([this, i] { WorkerLoop(i); });
+  for (int i = 1; i < num_threads_; ++i)
+    workers_.emplace_back([this, i] {
+      if (scope_.enter) scope_.enter();
+      WorkerLoop(i);
+    });
 }
 
 ThreadPool::~ThreadPool() {
@@ -86,6 +91,15 @@ void ThreadPool::WorkerLoop(int worker) {
 void ThreadPool::ParallelFor(int64_t n, const std::function<void(int64_t, int64_t, int)>& fn,
                              int chunks_per_thread) {
   if (n <= 0) return;
+  struct CallerScope {  // the caller's part runs inside the pool's scope
+    const ThreadScope& s;
+    explicit CallerScope(const ThreadScope& scope) : s(scope) {
+      if (s.enter) s.enter();
+    }
+    ~CallerScope() {
+      if (s.leave) s.leave();
+    }
+  } caller(scope_);
   if (num_threads_ == 1) {
     fn(0, n, 0);
     return;

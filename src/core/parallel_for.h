@@ -13,10 +13,18 @@
 
 namespace mcpose {
 
+// What every thread of a pool runs around its part of the pool's work, the calling thread's part
+// of a ParallelFor included: a thread-local setting of the pool's owner (an estimator's SIMD
+// target). `enter` and `leave` may be empty.
+struct ThreadScope {
+  std::function<void()> enter, leave;
+};
+
 class ThreadPool {
  public:
-  // threads <= 0: one per hardware thread.
-  explicit ThreadPool(int threads);
+  // threads <= 0: one per hardware thread. Each worker thread runs scope.enter when it starts;
+  // the thread calling ParallelFor runs enter and leave around its own part.
+  explicit ThreadPool(int threads, ThreadScope scope = {});
   ~ThreadPool();
   ThreadPool(const ThreadPool&) = delete;
   ThreadPool& operator=(const ThreadPool&) = delete;
@@ -42,6 +50,7 @@ class ThreadPool {
   static constexpr int kSpinMicros = 300;
 
   int num_threads_ = 1;
+  ThreadScope scope_;
   int spin_micros_ = 0;
   std::vector<std::thread> workers_;
   std::mutex mutex_;

@@ -1,14 +1,40 @@
 #include "engine/context.h"
 
+#include <string>
+
 #include "core/check.h"
+#include "mcpose/option_table.h"
+#include "mcpose/simd.h"
+#include "render/simd_dispatch.h"
 #include "score/box_fit.h"
 
 namespace mcpose::engine {
 
+namespace {
+
+// The threads of a context dispatch their SIMD kernels to its options' target (none to set for
+// the best: the process's).
+ThreadScope SimdScope(const EngineOptions& engine) {
+  const hwy::ChosenTarget* target = render::CappedDispatchTarget(static_cast<int>(engine.simd_target));
+  if (target == nullptr) return {};
+  return {[target] { render::PushThreadDispatchTarget(target); }, [] { render::PopThreadDispatchTarget(); }};
+}
+
+}  // namespace
+
+Status CheckSimdTarget(const EngineOptions& engine) {
+  const int index = static_cast<int>(engine.simd_target);
+  if (render::SimdTargetSupported(index)) return Status::Ok();
+  return InvalidArgument("engine.simd_target " + std::string(SimdTargetNames()[static_cast<size_t>(index)]) +
+                         ": this CPU does not have it (it has: " + render::SimdTargetsAvailable() + ")");
+}
+
 Context::Context(const EstimatorOptions& options)
-    : options_(options), cores_(options.engine.threads, options.engine.backend) {
+    : options_(options), cores_(options.engine.threads, options.engine.backend, SimdScope(options.engine)) {
   MCPOSE_CHECK(options.IsValid(nullptr));
 }
+
+ThreadScope Context::simd_scope() const { return SimdScope(options_.engine); }
 
 Context::Context(const EstimatorOptions& options, const Context& caches_from) : Context(options) {
   caches_ = caches_from.caches_;

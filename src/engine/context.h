@@ -18,6 +18,7 @@
 #include "engine/raster_cores.h"
 #include "mcpose/mesh.h"
 #include "mcpose/options.h"
+#include "mcpose/status.h"
 #include "render/lod.h"
 
 namespace mcpose::engine {
@@ -29,6 +30,10 @@ struct MeshRests {
   Eigen::Vector3d centre_of_mass = Eigen::Vector3d::Zero();
 };
 
+// Ok if this CPU has the options' SIMD target (EngineOptions::simd_target), else an error
+// naming it and the targets the CPU has.
+Status CheckSimdTarget(const EngineOptions& engine);
+
 class Context {
  public:
   // `options` must be valid (EstimatorOptions::IsValid).
@@ -38,6 +43,9 @@ class Context {
   Context(const EstimatorOptions& options, const Context& caches_from);
 
   const EstimatorOptions& options() const { return options_; }
+  // The scope that makes a thread dispatch the SIMD kernels to the options' target: the pool's
+  // threads run inside it; an entry point that runs kernels on its own thread enters it too.
+  ThreadScope simd_scope() const;
   RasterCores& cores() { return cores_; }
   ThreadPool& pool() { return cores_.pool(); }
 
@@ -70,6 +78,22 @@ class Context {
     std::map<uint64_t, std::shared_ptr<const MeshRests>> rests;
   };
   std::shared_ptr<Caches> caches_ = std::make_shared<Caches>();
+};
+
+// Enters a context's SIMD scope (Context::simd_scope) on the calling thread for its lifetime.
+class SimdScopeGuard {
+ public:
+  explicit SimdScopeGuard(const Context& context) : scope_(context.simd_scope()) {
+    if (scope_.enter) scope_.enter();
+  }
+  ~SimdScopeGuard() {
+    if (scope_.leave) scope_.leave();
+  }
+  SimdScopeGuard(const SimdScopeGuard&) = delete;
+  SimdScopeGuard& operator=(const SimdScopeGuard&) = delete;
+
+ private:
+  ThreadScope scope_;
 };
 
 }  // namespace mcpose::engine

@@ -18,6 +18,7 @@ void MoveSamples(const SE3& from, const SE3& to, filter::ParticleSet* samples) {
 StatusOr<ObjectEstimate> EstimateObject(Context& context, const Intrinsics& K, const DepthImage& depth,
                                         const ColourImage* colour, const Mesh& mesh, std::span<const Detection> boxes,
                                         uint64_t stream_id, filter::ParticleSet* posterior) {
+  const SimdScopeGuard simd(context);
   MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<BoxScorer> scorer, BoxScorer::Create(context, K, depth, mesh, boxes, colour));
   const EstimatorOptions& opt = context.options();
   const auto keep_last = [posterior](int, const filter::ParticleSet& weighted) {

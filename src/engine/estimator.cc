@@ -21,6 +21,7 @@ void Estimator::PrepareMeshes(std::span<const Mesh* const> meshes) { context_->P
 StatusOr<std::unique_ptr<Estimator>> Estimator::Create(const EstimatorOptions& options) {
   std::string error;
   if (!options.IsValid(&error)) return InvalidArgument("invalid estimator options: " + error);
+  MCPOSE_RETURN_IF_ERROR(engine::CheckSimdTarget(options.engine));
   return std::unique_ptr<Estimator>(new Estimator(std::make_unique<engine::Context>(options)));
 }
 

@@ -1,11 +1,13 @@
 #include "engine/raster_cores.h"
 
+#include <utility>
+
 #include "core/check.h"
 
 namespace mcpose::engine {
 
-RasterCores::RasterCores(int threads, RasterBackend backend)
-    : pool_(threads), backend_(backends::MakeBackend(backend)), cores_(static_cast<size_t>(pool_.size())) {}
+RasterCores::RasterCores(int threads, RasterBackend backend, ThreadScope scope)
+    : pool_(threads, std::move(scope)), backend_(backends::MakeBackend(backend)), cores_(static_cast<size_t>(pool_.size())) {}
 
 RasterCores::~RasterCores() = default;
 

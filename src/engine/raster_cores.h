@@ -17,7 +17,8 @@ namespace mcpose::engine {
 
 class RasterCores {
  public:
-  RasterCores(int threads, RasterBackend backend);
+  // `scope`: what each thread runs around its work (ThreadPool).
+  RasterCores(int threads, RasterBackend backend, ThreadScope scope = {});
   ~RasterCores();
 
   int threads() const { return pool_.size(); }

@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <stdexcept>
 
-#include "mcpose/simd.h"
+#include "engine/context.h"
 
 namespace mcpose {
 
@@ -50,10 +50,6 @@ void AddEstimatorFlags(CLI::App* cmd, unsigned groups, EstimatorFlags* f) {
       }
     }
   }
-  if (groups & kEngineOptions)
-    cmd->add_option("--simd-target", f->simd_target,
-                    "Cap the SIMD dispatch at this Highway target (here: " + render::SimdTargetsAvailable() +
-                        "), e.g. AVX2 on an AVX-512 machine; same results; default: the best");
 }
 
 Status EstimatorFlags::Finish() {
@@ -77,10 +73,9 @@ Status EstimatorFlags::Finish() {
       const OptionField& field = *FindOptionField(key);
       field.Ref<bool>(o) = field.Get<bool>(usable);
     }
-  if (!simd_target.empty() && !render::LimitSimdTargets(simd_target))
-    return InvalidArgument("--simd-target must be one of: " + render::SimdTargetsAvailable() + "; got '" + simd_target + "'");
   std::string error;
   if (!o.IsValid(&error)) return InvalidArgument("invalid options: " + error);
+  MCPOSE_RETURN_IF_ERROR(engine::CheckSimdTarget(o.engine));
   return Status::Ok();
 }
 

@@ -113,6 +113,7 @@ std::string RunFingerprint(const EstimatorOptions& options, const std::vector<De
                            const RunSource& source) {
   EstimatorOptions o = options;
   o.engine.threads = 0;
+  o.engine.simd_target = SimdTarget::kBest;
   uint64_t h = Fnv1a(OptionsToJson(o).dump());
   const auto absolute = [](const std::string& path) {
     std::error_code ec;

@@ -23,6 +23,8 @@ struct CullConstants {
 }  // namespace mcpose::render
 #endif
 
+#include "render/simd_dispatch.h"
+
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "render/clusters_simd.cc"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
@@ -124,7 +126,7 @@ void CullClustersSimd(const ClusterSet& set, const Eigen::Matrix3f& R, const Eig
   const PixelRect& box = params.box;
   k.box[0] = static_cast<float>(box.x0) - 1.0f, k.box[1] = static_cast<float>(box.x1);
   k.box[2] = static_cast<float>(box.y0) - 1.0f, k.box[3] = static_cast<float>(box.y1);
-  HWY_DYNAMIC_DISPATCH(CullClustersImpl)(set.soa.data(), set.soa_stride, n, k, reinterpret_cast<uint8_t*>(out));
+  MCPOSE_DYNAMIC_DISPATCH(CullClustersImpl)(set.soa.data(), set.soa_stride, n, k, reinterpret_cast<uint8_t*>(out));
 }
 
 }  // namespace mcpose::render

@@ -10,6 +10,8 @@
 #include "render/raster.h"
 #include "render/raster_fixed.h"
 
+#include "render/simd_dispatch.h"
+
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "render/project_simd.cc"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
@@ -170,7 +172,7 @@ void ProjectVerticesSimd(std::span<const Eigen::Vector3f> vertices_m, const Eige
   const size_t n = vertices_m.size();
   if (n == 0) return;
   const Eigen::Matrix<float, 3, 3, Eigen::RowMajor> rows = R;
-  const size_t done = HWY_DYNAMIC_DISPATCH(ProjectImpl)(vertices_m.data()->data(), n, rows.data(), t.data(), params.fx,
+  const size_t done = MCPOSE_DYNAMIC_DISPATCH(ProjectImpl)(vertices_m.data()->data(), n, rows.data(), t.data(), params.fx,
                                                         params.fy, params.cx, params.cy, &out[0].u);
   ProjectVertices(vertices_m.subspan(done), R, t, params, out.subspan(done));
 }
@@ -179,7 +181,7 @@ void SnapVertices(std::span<const ScreenVertex> vertices, const RasterParams& pa
   const size_t n = vertices.size();
   out->packed.resize(n);
   if (n == 0) return;
-  HWY_DYNAMIC_DISPATCH(SnapVerticesImpl)(vertices.data(), n, static_cast<float>(params.box.x0),
+  MCPOSE_DYNAMIC_DISPATCH(SnapVerticesImpl)(vertices.data(), n, static_cast<float>(params.box.x0),
                                          static_cast<float>(params.box.y0), params.z_near_m, out->packed.data());
 }
 
@@ -193,7 +195,7 @@ PixelRect ProjectSnapBoundSimd(std::span<const Eigen::Vector3f> vertices_m, cons
   const float ox = static_cast<float>(params.box.x0), oy = static_cast<float>(params.box.y0);
   float b[4] = {INFINITY, -INFINITY, INFINITY, -INFINITY};
   bool finite = true;
-  const size_t done = HWY_DYNAMIC_DISPATCH(ProjectSnapBoundImpl)(
+  const size_t done = MCPOSE_DYNAMIC_DISPATCH(ProjectSnapBoundImpl)(
       vertices_m.data()->data(), n, rows.data(), t.data(), params.fx, params.fy, params.cx, params.cy, ox, oy,
       params.z_near_m, &out[0].u, snapped->packed.data(), b, &finite);
   ProjectVertices(vertices_m.subspan(done), R, t, params, out.subspan(done));
@@ -203,7 +205,7 @@ PixelRect ProjectSnapBoundSimd(std::span<const Eigen::Vector3f> vertices_m, cons
 
 PixelRect CoverBoundSimd(std::span<const ScreenVertex> vertices, const PixelRect& box) {
   float b[4] = {INFINITY, -INFINITY, INFINITY, -INFINITY};
-  const size_t done = vertices.empty() ? 0 : HWY_DYNAMIC_DISPATCH(BoundImpl)(&vertices[0].u, vertices.size(), b);
+  const size_t done = vertices.empty() ? 0 : MCPOSE_DYNAMIC_DISPATCH(BoundImpl)(&vertices[0].u, vertices.size(), b);
   if (done == SIZE_MAX) return box;
   return CoverBoundFrom(vertices.subspan(done), box, b);
 }

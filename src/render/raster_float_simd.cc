@@ -19,6 +19,8 @@
 
 #include "render/raster.h"
 
+#include "render/simd_dispatch.h"
+
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "render/raster_float_simd.cc"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
@@ -294,9 +296,9 @@ void RasterizeDepthFloatSimd(std::span<const ScreenVertex> vertices,
   RasterCounters s;
   // Whole vectors of triangles here, the few left over (and every triangle of an empty box)
   // by the reference itself.
-  const size_t lanes = HWY_DYNAMIC_DISPATCH(LaneCount)();
+  const size_t lanes = MCPOSE_DYNAMIC_DISPATCH(LaneCount)();
   const size_t n = params.box.empty() ? 0 : triangles.size() / lanes * lanes;
-  if (n > 0) HWY_DYNAMIC_DISPATCH(RasterizeFloatImpl)(&vertices[0].u, triangles[0].data(), n, params, zbuf, &s);
+  if (n > 0) MCPOSE_DYNAMIC_DISPATCH(RasterizeFloatImpl)(&vertices[0].u, triangles[0].data(), n, params, zbuf, &s);
   RasterizeDepthReference(vertices, triangles.subspan(n), params, zbuf, &s);
   if (stats) *stats += s;
 }

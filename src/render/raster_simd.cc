@@ -6,11 +6,15 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "render/raster_fixed.h"
+#include "mcpose/option_table.h"
 #include "mcpose/simd.h"
+
+#include "render/simd_dispatch.h"
 
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "render/raster_simd.cc"
@@ -304,7 +308,7 @@ namespace mcpose::render {
 HWY_EXPORT(FillTriangleRows);
 
 int64_t FillCompactSimd(const CompactTriangle& t, float* zbuf, int stride) {
-  return HWY_DYNAMIC_DISPATCH(FillTriangleRows)(t, zbuf, stride);
+  return MCPOSE_DYNAMIC_DISPATCH(FillTriangleRows)(t, zbuf, stride);
 }
 
 HWY_EXPORT(FillBatch);
@@ -312,14 +316,14 @@ HWY_EXPORT(FillBatch);
 void FillCompactBatchSimd(const CompactTriangle* t, const uint8_t* ready, size_t n, float* zbuf, int stride,
                           RasterCounters* stats) {
   if (n == 0) return;
-  HWY_DYNAMIC_DISPATCH(FillBatch)(t, ready, n, zbuf, stride, stats);
+  MCPOSE_DYNAMIC_DISPATCH(FillBatch)(t, ready, n, zbuf, stride, stats);
 }
 
 HWY_EXPORT(ClearRect);
 
 void ClearDepthRectSimd(float* zbuf, int stride, const PixelRect& rect) {
   if (rect.empty()) return;
-  HWY_DYNAMIC_DISPATCH(ClearRect)(zbuf, stride, rect.x0, rect.y0, rect.x1, rect.y1);
+  MCPOSE_DYNAMIC_DISPATCH(ClearRect)(zbuf, stride, rect.x0, rect.y0, rect.x1, rect.y1);
 }
 
 int64_t FillTriangleSimd(const FixedTriangle& t, float* zbuf, int stride) {
@@ -328,42 +332,67 @@ int64_t FillTriangleSimd(const FixedTriangle& t, float* zbuf, int stride) {
 
 namespace {
 
-// Chooses the dispatch target from the enabled targets. Highway 1.0's SupportedTargets()
-// re-chooses it from every target the CPU has, undoing DisableTargets (a --simd-target AVX2
-// run then dispatched to AVX-512 after printing its targets), so every listing ends with this.
-void ChooseDispatchTarget() { hwy::GetChosenTarget().Update(hwy::SupportedTargets()); }
+// The thread's stack of dispatch targets (ThreadDispatchScope); empty: the process's.
+thread_local std::vector<const hwy::ChosenTarget*> t_targets;
 
-// The supported targets, best first.
-std::vector<int64_t> Targets() {
-  std::vector<int64_t> targets = hwy::SupportedAndGeneratedTargets();
-  ChooseDispatchTarget();
-  return targets;
+// The bit of SimdTargetNames()[index] (index >= 1), 0 if none.
+int64_t TargetBit(int index) {
+  const auto names = SimdTargetNames();
+  if (index < 1 || static_cast<size_t>(index) >= names.size()) return 0;
+  for (int64_t bits = HWY_TARGETS; bits != 0; bits &= bits - 1)
+    if (std::string(hwy::TargetName(bits & -bits)) == names[static_cast<size_t>(index)]) return bits & -bits;
+  return 0;
 }
 
 }  // namespace
 
 HWY_EXPORT(TargetNameImpl);
 
+const hwy::ChosenTarget& ThreadDispatchTarget() {
+  if (!t_targets.empty() && t_targets.back() != nullptr) return *t_targets.back();
+  return hwy::GetChosenTarget();
+}
+
+void PushThreadDispatchTarget(const hwy::ChosenTarget* target) { t_targets.push_back(target); }
+void PopThreadDispatchTarget() { t_targets.pop_back(); }
+
+bool SimdTargetSupported(int index) {
+  if (index == 0) return true;
+  const int64_t bit = TargetBit(index);
+  return bit != 0 && (hwy::SupportedTargets() & bit) != 0;
+}
+
+const hwy::ChosenTarget* CappedDispatchTarget(int index) {
+  // One ChosenTarget per name, made on first use: the CPU's targets no better than it.
+  static std::vector<std::unique_ptr<hwy::ChosenTarget>> targets = [] {
+    std::vector<std::unique_ptr<hwy::ChosenTarget>> t(SimdTargetNames().size());
+    const int64_t supported = hwy::SupportedTargets();
+    for (size_t i = 1; i < t.size(); ++i) {
+      const int64_t bit = TargetBit(static_cast<int>(i));
+      if (bit == 0 || (supported & bit) == 0) continue;
+      t[i] = std::make_unique<hwy::ChosenTarget>();
+      t[i]->Update(supported & ~(bit - 1));  // better targets have lower bits
+    }
+    return t;
+  }();
+  if (index < 1 || static_cast<size_t>(index) >= targets.size()) return nullptr;
+  return targets[static_cast<size_t>(index)].get();
+}
+
 std::string SimdTargetsAvailable() {
   std::string out;
-  for (int64_t target : Targets()) {
+  for (int64_t target : hwy::SupportedAndGeneratedTargets()) {
     if (!out.empty()) out += ' ';
     out += hwy::TargetName(target);
   }
   return out;
 }
 
-std::string DispatchedSimdTarget() { return HWY_DYNAMIC_DISPATCH(TargetNameImpl)(); }
+std::string ThreadSimdTarget() { return MCPOSE_DYNAMIC_DISPATCH(TargetNameImpl)(); }
 
-bool LimitSimdTargets(const std::string& name) {
-  for (int64_t target : Targets()) {
-    if (name != hwy::TargetName(target)) continue;
-    // Better targets have lower bits: disable every bit below this one.
-    hwy::DisableTargets(target - 1);
-    ChooseDispatchTarget();
-    return true;
-  }
-  return false;
+std::string DispatchedSimdTarget(SimdTarget target) {
+  const ThreadDispatchScope scope(CappedDispatchTarget(static_cast<int>(target)));
+  return MCPOSE_DYNAMIC_DISPATCH(TargetNameImpl)();
 }
 
 }  // namespace mcpose::render

@@ -1,11 +1,15 @@
 #include "render/raster.h"
 #include "render/raster_fixed.h"
 #include "mcpose/simd.h"
+#include "mcpose/option_table.h"
+#include "core/parallel_for.h"
+#include "render/simd_dispatch.h"
 
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <random>
+#include <thread>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -526,22 +530,44 @@ TEST(RasterSimd, ClearDepthRectSetsExactlyTheRect) {
   hwy::SetSupportedTargetsForTest(0);
 }
 
-// --simd-target: the kernels dispatch to the limited target, also after the targets have been
-// listed (Highway 1.0's SupportedTargets() re-chose the best target, so an "AVX2" run on an
-// AVX-512 machine ran the AVX-512 kernels).
-TEST(SimdTargets, LimitHoldsAfterTheTargetsAreListed) {
+// --simd-target: each thread dispatches to the target it was given, whatever the others do; the
+// threads of a pool with that target's scope (an estimator's) all do.
+TEST(SimdTargets, EachThreadDispatchesToItsOwnTarget) {
   const std::vector<int64_t> targets = hwy::SupportedAndGeneratedTargets();
   ASSERT_FALSE(targets.empty());
-  EXPECT_EQ(DispatchedSimdTarget(), hwy::TargetName(targets.front()));
-  for (int64_t target : targets) {  // best first: each limit is within the previous one
-    ASSERT_TRUE(LimitSimdTargets(hwy::TargetName(target)));
-    EXPECT_EQ(SimdTargetsAvailable().rfind(hwy::TargetName(target), 0), 0u) << SimdTargetsAvailable();
-    EXPECT_EQ(DispatchedSimdTarget(), hwy::TargetName(target));
+  const std::string best = hwy::TargetName(targets.front());
+  EXPECT_EQ(DispatchedSimdTarget(), best);
+  EXPECT_EQ(ThreadSimdTarget(), best);
+  const auto names = SimdTargetNames();
+  for (int64_t target : targets) {
+    const std::string name = hwy::TargetName(target);
+    int index = 0;
+    for (size_t i = 1; i < names.size(); ++i)
+      if (name == names[i]) index = static_cast<int>(i);
+    ASSERT_GT(index, 0) << name;
+    EXPECT_TRUE(SimdTargetSupported(index)) << name;
+    EXPECT_EQ(DispatchedSimdTarget(static_cast<SimdTarget>(index)), name);
+    std::string inside, beside;
+    {
+      const ThreadDispatchScope scope(CappedDispatchTarget(index));
+      inside = ThreadSimdTarget();
+      std::thread other([&] { beside = ThreadSimdTarget(); });
+      other.join();
+      // A pool whose threads enter the scope: every chunk, the caller's included, runs there.
+      const hwy::ChosenTarget* capped = CappedDispatchTarget(index);
+      ThreadPool pool(3, {[capped] { PushThreadDispatchTarget(capped); }, [] { PopThreadDispatchTarget(); }});
+      std::vector<std::string> got(64);
+      pool.ParallelFor(64, [&](int64_t b, int64_t e, int) {
+        for (int64_t i = b; i < e; ++i) got[static_cast<size_t>(i)] = ThreadSimdTarget();
+      });
+      for (const std::string& g : got) EXPECT_EQ(g, name);
+    }
+    EXPECT_EQ(inside, name);
+    EXPECT_EQ(beside, best);  // the other thread kept the process's
+    EXPECT_EQ(ThreadSimdTarget(), best);  // the scope ended
   }
-  EXPECT_FALSE(LimitSimdTargets("NO_SUCH_TARGET"));
-  hwy::DisableTargets(0);  // every target again, for the other tests
-  SimdTargetsAvailable();
-  EXPECT_EQ(DispatchedSimdTarget(), hwy::TargetName(targets.front()));
+  EXPECT_FALSE(SimdTargetSupported(static_cast<int>(names.size())));
+  EXPECT_EQ(CappedDispatchTarget(0), nullptr);  // best: the process's
 }
 
 }  // namespace

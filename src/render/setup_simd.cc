@@ -32,6 +32,8 @@ inline constexpr std::array<uint32_t, 256> kCompressNibbles = MakeCompressNibble
 }  // namespace mcpose::render::detail
 #endif  // MCPOSE_RENDER_SETUP_SIMD_TABLES_
 
+#include "render/simd_dispatch.h"
+
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "render/setup_simd.cc"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
@@ -332,7 +334,7 @@ void SetupSurvivors(const SnappedVertices& snapped, std::span<const ScreenVertex
                     std::span<const std::array<uint32_t, 3>> triangles, const RasterParams& params,
                     std::span<const uint32_t> survivors, CompactTriangle* out, uint8_t* ready) {
   if (survivors.empty()) return;
-  HWY_DYNAMIC_DISPATCH(SetupSurvivorsImpl)(snapped.packed.data(), vertices.data(), triangles.data()->data(),
+  MCPOSE_DYNAMIC_DISPATCH(SetupSurvivorsImpl)(snapped.packed.data(), vertices.data(), triangles.data()->data(),
                                           survivors.data(), survivors.size(), params.box.width(),
                                           params.box.height(), params.cull_backfaces, out, ready);
 }
@@ -341,7 +343,7 @@ size_t ClassifyTriangles(const SnappedVertices& snapped, std::span<const std::ar
                          const RasterParams& params, RasterCounters* stats, std::vector<uint32_t>* survivors) {
   survivors->resize(triangles.size() + kSimdPadFloats);  // whole vectors are stored
   if (triangles.empty()) return 0;
-  return HWY_DYNAMIC_DISPATCH(ClassifyTrianglesImpl)(snapped.packed.data(), triangles.data()->data(),
+  return MCPOSE_DYNAMIC_DISPATCH(ClassifyTrianglesImpl)(snapped.packed.data(), triangles.data()->data(),
                                                      triangles.size(), params.box.width(), params.box.height(),
                                                      params.cull_backfaces, stats, survivors->data());
 }

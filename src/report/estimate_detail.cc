@@ -144,7 +144,7 @@ nlohmann::json EstimateDetailJson(const RunReport& report, const EstimatorOption
   nlohmann::json objects = nlohmann::json::array();
   for (const ObjectRecord& r : report.objects) objects.push_back(ObjectJson(r));
   nlohmann::json o = io::OptionsToJson(options);
-  o["engine"]["simd_target"] = render::DispatchedSimdTarget();
+  o["engine"]["simd_target"] = render::DispatchedSimdTarget(options.engine.simd_target);  // the name, not "best"
   return {{"dataset", dataset}, {"models", models}, {"detections", detections}, {"options", o}, {"objects", objects}};
 }
 

@@ -8,6 +8,8 @@
 
 #include "score/colour.h"
 
+#include "render/simd_dispatch.h"
+
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "score/colour_simd.cc"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
@@ -174,7 +176,7 @@ HWY_EXPORT(CountColourRect);
 ColourStats CountColourSimd(const ColourSample& sample, const ColourLookup& lookup) {
   ColourStats out;
   if (sample.step < 1 || sample.step > 4) return CountColour(sample, lookup);
-  HWY_DYNAMIC_DISPATCH(CountColourRect)(sample, lookup, &out);
+  MCPOSE_DYNAMIC_DISPATCH(CountColourRect)(sample, lookup, &out);
   return out;
 }
 

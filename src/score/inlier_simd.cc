@@ -6,6 +6,8 @@
 
 #include "score/inlier.h"
 
+#include "render/simd_dispatch.h"
+
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "score/inlier_simd.cc"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
@@ -116,7 +118,7 @@ HWY_EXPORT(CountRect);
 InlierCounts CountInliers1DInRectSimd(const float* rendered, const float* observed_or_nan, int stride,
                                       const render::PixelRect& rect, int32_t n_observed, float eps_m) {
   int64_t n[3];
-  HWY_DYNAMIC_DISPATCH(CountRect)(rendered, observed_or_nan, stride, rect.x0, rect.y0, rect.x1, rect.y1, eps_m, n);
+  MCPOSE_DYNAMIC_DISPATCH(CountRect)(rendered, observed_or_nan, stride, rect.x0, rect.y0, rect.x1, rect.y1, eps_m, n);
   InlierCounts c;
   c.observed = n_observed;
   c.rendered = static_cast<int32_t>(n[0]);

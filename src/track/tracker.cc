@@ -151,6 +151,7 @@ std::vector<int> Tracker::TrackedIds() const {
 StatusOr<std::unique_ptr<Tracker>> Tracker::Create(const TrackerOptions& options) {
   std::string error;
   if (!options.IsValid(&error)) return InvalidArgument("invalid tracker options: " + error);
+  MCPOSE_RETURN_IF_ERROR(engine::CheckSimdTarget(options.estimator.engine));
   return std::unique_ptr<Tracker>(new Tracker(std::make_unique<Impl>(options)));
 }
 
@@ -159,6 +160,7 @@ StatusOr<TrackStep> Tracker::Track(const Intrinsics& K, const DepthImage& depth,
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   Impl& im = *impl_;
+  const engine::SimdScopeGuard simd(im.tracked);
   TrackStep step;
   step.obj_id = obj_id;
   auto done = [&](StatusOr<TrackStep> s) {
