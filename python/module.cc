@@ -145,6 +145,7 @@ class MeshCachingDataset final : public Dataset {
   const std::string& root() const override { return inner_->root(); }
   std::vector<FrameKey> Frames() const override { return inner_->Frames(); }
   StatusOr<Frame> LoadFrame(const FrameKey& key) const override { return inner_->LoadFrame(key); }
+  StatusOr<Intrinsics> LoadIntrinsics(const FrameKey& key) const override { return inner_->LoadIntrinsics(key); }
   StatusOr<ColourImage> LoadColour(const Frame& frame) const override { return inner_->LoadColour(frame); }
   std::string FrameName(const FrameKey& key) const override { return inner_->FrameName(key); }
   StatusOr<FrameKey> ParseFrameName(const std::string& name) const override { return inner_->ParseFrameName(name); }

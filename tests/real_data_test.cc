@@ -107,6 +107,31 @@ INSTANTIATE_TEST_SUITE_P(RealFrames, GroundTruthRender,
 
 // The ground-truth pose must score in the top 1% of the estimator's own random samples of the
 // object's tight box (the weight is what the filter climbs; if GT does not win, it cannot work).
+// The checks of detections read each frame's intrinsics without decoding its depth: the same
+// intrinsics and size as the decoded frame's, in both layouts.
+TEST(RealData, IntrinsicsWithoutDecodingEqualTheFrames) {
+  for (const std::string& root : {testing::YcbvDir(), testing::BopDir()}) {
+    auto ds = Dataset::Open(root);
+    ASSERT_TRUE(ds.ok()) << ds.status().ToString();
+    int checked = 0;
+    for (const FrameKey& key : (*ds)->Frames()) {
+      if (checked == 4) break;
+      auto frame = (*ds)->LoadFrame(key);
+      auto K = (*ds)->LoadIntrinsics(key);
+      ASSERT_TRUE(frame.ok() && K.ok()) << root;
+      EXPECT_EQ(K->fx, frame->K.fx);
+      EXPECT_EQ(K->fy, frame->K.fy);
+      EXPECT_EQ(K->cx, frame->K.cx);
+      EXPECT_EQ(K->cy, frame->K.cy);
+      EXPECT_EQ(K->width, frame->K.width);
+      EXPECT_EQ(K->height, frame->K.height);
+      ++checked;
+    }
+    EXPECT_EQ(checked, 4) << root;
+    EXPECT_FALSE((*ds)->LoadIntrinsics(FrameKey{77, 1}).ok());
+  }
+}
+
 TEST(RealData, GroundTruthPoseScoresInTopOnePercentOfRandomSamples) {
   auto ds = OpenYcbv();
   ASSERT_TRUE(ds);

@@ -63,6 +63,13 @@ class Dataset {
   // Depth (metres), intrinsics and ground truth of one frame. Validates the depth PNG
   // (16-bit, one channel, size matching the intrinsics) and the intrinsics.
   virtual StatusOr<Frame> LoadFrame(const FrameKey& key) const = 0;
+  // The intrinsics (and image size) LoadFrame gives the frame, with the same checks of the
+  // camera, read without decoding its depth image (the PNG's header gives the size): what the
+  // checks of detections need before a run. This default loads the frame.
+  virtual StatusOr<Intrinsics> LoadIntrinsics(const FrameKey& key) const {
+    MCPOSE_ASSIGN_OR_RETURN(Frame frame, LoadFrame(key));
+    return frame.K;
+  }
   // The colour image of a loaded frame as RGBA, alpha 255 everywhere (YCB-Video `-color.png`,
   // whose synthetic frames carry an unrelated alpha channel; BOP `rgb/` PNG or JPEG). Errors
   // name the file: missing, truncated, not 8-bit, or of another size than the frame's depth

@@ -75,16 +75,17 @@ bool ImageWantsColour(const EstimatorOptions& options, const std::map<int, std::
 
 using ImageGroups = std::map<FrameKey, std::map<int, std::vector<Detection>>>;
 
-// The detections by image and class, each checked as CheckDetectionsAgainstDataset does. A
-// class whose boxes hold no valid depth is left out with one warning naming the depth image and
-// the class.
+// The detections by image and class, each checked as CheckDetectionsAgainstDataset does (the
+// frames' intrinsics read, no depth image decoded). RunEstimation leaves out, with one warning
+// naming the depth image and the class, a class whose boxes hold no valid depth.
 StatusOr<ImageGroups> GroupDetections(const Dataset& dataset, const std::vector<Detection>& detections,
                                       const std::string& detections_source);
 
 // The one check of detections against a dataset, for every command that reads both: each
 // detection's image exists in the dataset, its class has a model, no image holds more than
-// limits::kMaxBoxesPerImage boxes, and each box overlaps its image with positive size (each
-// named image's frame is read for its size). Errors name `detections_source` and the detection.
+// limits::kMaxBoxesPerImage boxes, and each box passes CheckBox in its image (each named
+// image's intrinsics and size are read: Dataset::LoadIntrinsics). Errors name
+// `detections_source` and the detection.
 Status CheckDetectionsAgainstDataset(const Dataset& dataset, const std::vector<Detection>& detections,
                                      const std::string& detections_source);
 

@@ -167,35 +167,38 @@ Status CheckBoxesOfImage(const FrameKey& key, const std::map<int, std::vector<De
 
 Status CheckDetectionsAgainstDataset(const Dataset& dataset, const std::vector<Detection>& detections,
                                      const std::string& detections_source) {
-  MCPOSE_ASSIGN_OR_RETURN(const ImageGroups groups, GroupByImage(dataset, detections, detections_source));
-  for (const auto& [key, by_class] : groups) {
-    MCPOSE_ASSIGN_OR_RETURN(const Frame frame, dataset.LoadFrame(key));
-    MCPOSE_RETURN_IF_ERROR(CheckBoxesOfImage(key, by_class, frame.K, detections_source));
-  }
-  return Status::Ok();
+  return GroupDetections(dataset, detections, detections_source).status();
 }
 
 StatusOr<ImageGroups> GroupDetections(const Dataset& dataset, const std::vector<Detection>& detections,
                                       const std::string& detections_source) {
   MCPOSE_ASSIGN_OR_RETURN(ImageGroups groups, GroupByImage(dataset, detections, detections_source));
-  for (auto& [key, by_class] : groups) {
-    MCPOSE_ASSIGN_OR_RETURN(Frame frame, dataset.LoadFrame(key));
-    MCPOSE_RETURN_IF_ERROR(CheckBoxesOfImage(key, by_class, frame.K, detections_source));
-    for (auto it = by_class.begin(); it != by_class.end();) {
-      const auto& [obj_id, dets] = *it;
-      // A class whose boxes hold no depth (all zero or saturated) has nothing to fit: no row.
-      if (!BoxesHoldDepth(frame.depth, dets)) {
-        spdlog::warn("{}: no valid depth in the {} box(es) of class {} ({}); it gets no result", frame.depth_path,
-                     dets.size(), obj_id, dataset.ObjectName(obj_id));
-        it = by_class.erase(it);
-        continue;
-      }
-      ++it;
-    }
+  for (const auto& [key, by_class] : groups) {
+    MCPOSE_ASSIGN_OR_RETURN(const Intrinsics K, dataset.LoadIntrinsics(key));  // no depth decoded
+    MCPOSE_RETURN_IF_ERROR(CheckBoxesOfImage(key, by_class, K, detections_source));
   }
-  std::erase_if(groups, [](const auto& group) { return group.second.empty(); });
   return groups;
 }
+
+namespace {
+
+// The classes of `by_class` whose boxes hold some depth: one with none has nothing to fit and
+// gets no row (one warning naming the depth image and the class).
+std::map<int, std::vector<Detection>> ClassesWithDepth(const Dataset& dataset, const Frame& frame,
+                                                       const std::map<int, std::vector<Detection>>& by_class) {
+  std::map<int, std::vector<Detection>> kept;
+  for (const auto& [obj_id, dets] : by_class) {
+    if (BoxesHoldDepth(frame.depth, dets)) {
+      kept.emplace(obj_id, dets);
+      continue;
+    }
+    spdlog::warn("{}: no valid depth in the {} box(es) of class {} ({}); it gets no result", frame.depth_path,
+                 dets.size(), obj_id, dataset.ObjectName(obj_id));
+  }
+  return kept;
+}
+
+}  // namespace
 
 StatusOr<ImageEstimate> EstimateFrame(Estimator& estimator, const Dataset& dataset, const Frame& frame,
                                       const std::map<int, std::vector<Detection>>& boxes,
@@ -255,17 +258,20 @@ StatusOr<RunReport> RunEstimation(Estimator& estimator, const Dataset& dataset,
       done += static_cast<int>(by_class.size());
       continue;
     }
-    MCPOSE_ASSIGN_OR_RETURN(Frame frame, dataset.LoadFrame(key));
+    MCPOSE_ASSIGN_OR_RETURN(Frame frame, dataset.LoadFrame(key));  // each frame decoded here only
+    const std::map<int, std::vector<Detection>> with_depth = ClassesWithDepth(dataset, frame, by_class);
+    total -= static_cast<int>(by_class.size() - with_depth.size());
+    if (with_depth.empty()) continue;
     const auto on_object = [&](const ObjectRecord& r) {
       if (r.instance == 0) ++done;  // progress counts classes; a class's further instances follow it
       if (progress) progress(done, total, r);
     };
     std::map<int, int> instances_of_class;
     if (instance_counts)
-      for (const auto& [obj_id, dets] : by_class)
+      for (const auto& [obj_id, dets] : with_depth)
         if (const auto it = instance_counts->find({key, obj_id}); it != instance_counts->end())
           instances_of_class.emplace(obj_id, it->second);
-    MCPOSE_ASSIGN_OR_RETURN(ImageEstimate image, EstimateFrame(estimator, dataset, frame, by_class, mesh_of, on_object,
+    MCPOSE_ASSIGN_OR_RETURN(ImageEstimate image, EstimateFrame(estimator, dataset, frame, with_depth, mesh_of, on_object,
                                                                &instances_of_class));
     if (image_done) MCPOSE_RETURN_IF_ERROR(image_done(key, image.rows));
     report.results.insert(report.results.end(), image.rows.begin(), image.rows.end());

@@ -191,47 +191,24 @@ class BopDataset final : public Dataset {
     return keys;
   }
 
+  StatusOr<Intrinsics> LoadIntrinsics(const FrameKey& key) const override {
+    if (frames_.find(key) == frames_.end()) return MissingFrame(key);
+    const std::string depth_path = SceneDir(key.scene_id) + "/depth/" + Id6(key.image_id) + ".png";
+    MCPOSE_ASSIGN_OR_RETURN(const ImageSize size, ReadPngSize(depth_path));
+    return Camera(key, size.width, size.height, depth_path);
+  }
+
   StatusOr<Frame> LoadFrame(const FrameKey& key) const override {
     const auto it = frames_.find(key);
     if (it == frames_.end()) return MissingFrame(key);
     const std::string scene_dir = SceneDir(key.scene_id);
-    const std::string camera_path = scene_dir + "/scene_camera.json";
-
-    // Camera of this image.
-    MCPOSE_ASSIGN_OR_RETURN(std::shared_ptr<const SceneCameras> cameras,
-                            Cameras(key.scene_id, camera_path));
-    const auto cam = cameras->find(key.image_id);
-    if (cam == cameras->end()) {
-      return NotFound(camera_path + ": no entry for image " + std::to_string(key.image_id));
-    }
-    const std::optional<double> depth_scale =
-        cam->second.depth_scale ? cam->second.depth_scale : camera_.depth_scale;
-    if (!depth_scale) {
-      return InvalidArgument(camera_path + ": image " + std::to_string(key.image_id) +
-                             ": no depth_scale (and none in " + root_ + "/camera.json)");
-    }
-
-    // Depth: depth_mm = value * depth_scale.
     Frame frame;
     frame.key = key;
     frame.depth_path = scene_dir + "/depth/" + Id6(key.image_id) + ".png";
-    MCPOSE_ASSIGN_OR_RETURN(frame.depth, ReadDepthPng(frame.depth_path, *depth_scale / kMmPerMetre));
-    if (camera_.width > 0 &&
-        (frame.depth.width != camera_.width || frame.depth.height != camera_.height)) {
-      return InvalidArgument(frame.depth_path + ": depth image is " +
-                             std::to_string(frame.depth.width) + "x" +
-                             std::to_string(frame.depth.height) + " but " + root_ +
-                             "/camera.json says " + std::to_string(camera_.width) + "x" +
-                             std::to_string(camera_.height));
-    }
-
-    // Intrinsics from the row-major cam_K.
-    const double* K = cam->second.K;
-    frame.K = {K[0], K[4], K[2], K[5], frame.depth.width, frame.depth.height};
-    const std::string where = camera_path + ": image " + std::to_string(key.image_id) + ": cam_K: ";
-    if (const std::string problem = limits::CheckPinholeMatrix(K, frame.depth.width, frame.depth.height);
-        !problem.empty())
-      return InvalidArgument(where + problem + " (depth image " + frame.depth_path + ")");
+    // Depth: depth_mm = value * depth_scale; then the camera, checked against the depth's size.
+    MCPOSE_ASSIGN_OR_RETURN(const double depth_scale, DepthScale(key));
+    MCPOSE_ASSIGN_OR_RETURN(frame.depth, ReadDepthPng(frame.depth_path, depth_scale / kMmPerMetre));
+    MCPOSE_ASSIGN_OR_RETURN(frame.K, Camera(key, frame.depth.width, frame.depth.height, frame.depth_path));
     // The colour image, where it is a PNG, must have the depth's size.
     const std::string rgb_path = scene_dir + "/rgb/" + Id6(key.image_id) + ".png";
     std::error_code rgb_ec;
@@ -334,6 +311,40 @@ class BopDataset final : public Dataset {
     if (!std::binary_search(object_ids_.begin(), object_ids_.end(), obj_id))
       return NotFound(root_ + "/models/models_info.json: no model with obj_id " + std::to_string(obj_id));
     return Status::Ok();
+  }
+
+  // The depth scale of a frame (mm per unit): its scene_camera.json entry's, else camera.json's.
+  StatusOr<double> DepthScale(const FrameKey& key) const {
+    const std::string camera_path = SceneDir(key.scene_id) + "/scene_camera.json";
+    MCPOSE_ASSIGN_OR_RETURN(std::shared_ptr<const SceneCameras> cameras, Cameras(key.scene_id, camera_path));
+    const auto cam = cameras->find(key.image_id);
+    if (cam == cameras->end()) return NotFound(camera_path + ": no entry for image " + std::to_string(key.image_id));
+    const std::optional<double> depth_scale = cam->second.depth_scale ? cam->second.depth_scale : camera_.depth_scale;
+    if (!depth_scale) {
+      return InvalidArgument(camera_path + ": image " + std::to_string(key.image_id) +
+                             ": no depth_scale (and none in " + root_ + "/camera.json)");
+    }
+    return *depth_scale;
+  }
+
+  // The camera of a frame whose depth image (`depth_path`) is width x height: its scene_camera.json
+  // cam_K (row-major), checked as a pinhole matrix with the principal point in the image, and the
+  // size against camera.json's.
+  StatusOr<Intrinsics> Camera(const FrameKey& key, int width, int height, const std::string& depth_path) const {
+    const std::string camera_path = SceneDir(key.scene_id) + "/scene_camera.json";
+    MCPOSE_ASSIGN_OR_RETURN(std::shared_ptr<const SceneCameras> cameras, Cameras(key.scene_id, camera_path));
+    const auto cam = cameras->find(key.image_id);
+    if (cam == cameras->end()) return NotFound(camera_path + ": no entry for image " + std::to_string(key.image_id));
+    if (camera_.width > 0 && (width != camera_.width || height != camera_.height)) {
+      return InvalidArgument(depth_path + ": depth image is " + std::to_string(width) + "x" + std::to_string(height) +
+                             " but " + root_ + "/camera.json says " + std::to_string(camera_.width) + "x" +
+                             std::to_string(camera_.height));
+    }
+    const double* K = cam->second.K;
+    const std::string where = camera_path + ": image " + std::to_string(key.image_id) + ": cam_K: ";
+    if (const std::string problem = limits::CheckPinholeMatrix(K, width, height); !problem.empty())
+      return InvalidArgument(where + problem + " (depth image " + depth_path + ")");
+    return Intrinsics{K[0], K[4], K[2], K[5], width, height};
   }
 
   Status MissingFrame(const FrameKey& key) const {

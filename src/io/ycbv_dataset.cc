@@ -218,6 +218,17 @@ bool AllDigits(const std::string& s, size_t n) {
   return s.size() == n && std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
 }
 
+// The intrinsics of a frame whose depth image (`depth_path`) is width x height: a pinhole K (zero
+// skew, last row 0 0 1) with the principal point in the image, from its meta.mat.
+StatusOr<Intrinsics> CheckedIntrinsics(const std::string& meta_path, const YcbvMeta& meta, int width, int height,
+                                       const std::string& depth_path) {
+  const Eigen::Matrix3d& K = meta.K;
+  const double rows[9] = {K(0, 0), K(0, 1), K(0, 2), K(1, 0), K(1, 1), K(1, 2), K(2, 0), K(2, 1), K(2, 2)};
+  if (const std::string problem = limits::CheckPinholeMatrix(rows, width, height); !problem.empty())
+    return InvalidArgument(meta_path + ": intrinsic_matrix: " + problem + " (depth image " + depth_path + ")");
+  return Intrinsics{K(0, 0), K(1, 1), K(0, 2), K(1, 2), width, height};
+}
+
 class YcbvDataset final : public Dataset {
  public:
   YcbvDataset(std::string root, std::string models_dir, std::vector<std::string> class_names,
@@ -273,6 +284,15 @@ class YcbvDataset final : public Dataset {
     return key;
   }
 
+  StatusOr<Intrinsics> LoadIntrinsics(const FrameKey& key) const override {
+    MCPOSE_ASSIGN_OR_RETURN(const std::string prefix, Prefix(key));
+    const std::string meta_path = prefix + "-meta.mat";
+    MCPOSE_ASSIGN_OR_RETURN(YcbvMeta meta, ReadYcbvMeta(meta_path));
+    const std::string depth_path = prefix + "-depth.png";
+    MCPOSE_ASSIGN_OR_RETURN(const ImageSize size, ReadPngSize(depth_path));
+    return CheckedIntrinsics(meta_path, meta, size.width, size.height, depth_path);
+  }
+
   StatusOr<Frame> LoadFrame(const FrameKey& key) const override {
     MCPOSE_ASSIGN_OR_RETURN(const std::string prefix, Prefix(key));
     const std::string meta_path = prefix + "-meta.mat";
@@ -285,15 +305,8 @@ class YcbvDataset final : public Dataset {
     frame.depth_path = prefix + "-depth.png";
     MCPOSE_ASSIGN_OR_RETURN(frame.depth, ReadDepthPng(frame.depth_path, 1.0 / meta.factor_depth));
 
-    // Intrinsics: a pinhole K (zero skew, last row 0 0 1) with the principal point in the image.
-    const Eigen::Matrix3d& K = meta.K;
-    frame.K = {K(0, 0), K(1, 1), K(0, 2), K(1, 2), frame.depth.width, frame.depth.height};
-    {
-      const double rows[9] = {K(0, 0), K(0, 1), K(0, 2), K(1, 0), K(1, 1), K(1, 2), K(2, 0), K(2, 1), K(2, 2)};
-      if (const std::string problem = limits::CheckPinholeMatrix(rows, frame.depth.width, frame.depth.height);
-          !problem.empty())
-        return InvalidArgument(meta_path + ": intrinsic_matrix: " + problem + " (depth image " + frame.depth_path + ")");
-    }
+    MCPOSE_ASSIGN_OR_RETURN(frame.K,
+                            CheckedIntrinsics(meta_path, meta, frame.depth.width, frame.depth.height, frame.depth_path));
 
     // The colour and label images of the frame, where present, must have the depth's size.
     for (const char* suffix : {"-color.png", "-label.png"}) {
