@@ -332,8 +332,8 @@ int64_t FillTriangleSimd(const FixedTriangle& t, float* zbuf, int stride) {
 
 namespace {
 
-// The thread's stack of dispatch targets (ThreadDispatchScope); empty: the process's.
-thread_local std::vector<const hwy::ChosenTarget*> t_targets;
+// The targets the thread's open scopes replaced (ThreadDispatchScope), innermost last.
+thread_local std::vector<const hwy::ChosenTarget*> t_replaced;
 
 // The bit of SimdTargetNames()[index] (index >= 1), 0 if none.
 int64_t TargetBit(int index) {
@@ -348,13 +348,17 @@ int64_t TargetBit(int index) {
 
 HWY_EXPORT(TargetNameImpl);
 
-const hwy::ChosenTarget& ThreadDispatchTarget() {
-  if (!t_targets.empty() && t_targets.back() != nullptr) return *t_targets.back();
-  return hwy::GetChosenTarget();
+thread_local const hwy::ChosenTarget* t_dispatch_target = nullptr;
+
+void PushThreadDispatchTarget(const hwy::ChosenTarget* target) {
+  t_replaced.push_back(t_dispatch_target);
+  t_dispatch_target = target;
 }
 
-void PushThreadDispatchTarget(const hwy::ChosenTarget* target) { t_targets.push_back(target); }
-void PopThreadDispatchTarget() { t_targets.pop_back(); }
+void PopThreadDispatchTarget() {
+  t_dispatch_target = t_replaced.back();
+  t_replaced.pop_back();
+}
 
 bool SimdTargetSupported(int index) {
   if (index == 0) return true;

@@ -10,8 +10,14 @@
 
 namespace mcpose::render {
 
-// The dispatch target of the calling thread, and its name (asked of a dispatched function).
-const hwy::ChosenTarget& ThreadDispatchTarget();
+// The calling thread's target (PushThreadDispatchTarget); null: the process's.
+extern thread_local const hwy::ChosenTarget* t_dispatch_target;
+
+// The dispatch target of the calling thread (inline: a kernel call reads one thread-local), and
+// its name (asked of a dispatched function).
+inline const hwy::ChosenTarget& ThreadDispatchTarget() {
+  return t_dispatch_target != nullptr ? *t_dispatch_target : hwy::GetChosenTarget();
+}
 std::string ThreadSimdTarget();
 
 // The dispatch target of SimdTarget `index` (the index in SimdTargetNames()); nullptr for
