@@ -216,6 +216,9 @@ def test_bad_input_raises_cli_message(ycbv, tmp_path):
         mcpose.Estimator().estimate(frame.depth, frame.K[:2], good, meshes)
     with pytest.raises(ValueError, match="no mesh for category_id"):
         mcpose.Estimator().estimate(frame.depth, frame.K, good, {})
+    # A box is checked by the one rule the files' boxes meet: a score above 1 is refused here too.
+    with pytest.raises(ValueError, match=r"score must be a finite number in \[0, 1\], got 3"):
+        mcpose.Estimator().estimate(frame.depth, frame.K, [{**good[0], "score": 3.0}] + good[1:], meshes)
     with pytest.raises(ValueError, match="rgb: expected a uint8 array"):
         mcpose.Estimator().estimate(frame.depth, frame.K, good, meshes, rgb=np.zeros((10, 10, 3), np.uint8))
     # The arrays are checked as the readers check the files: the same limits, the same words.
