@@ -32,10 +32,8 @@ enum FlagGroup : unsigned {
   kAllEstimatorFlags = kAllOptions,
 };
 
-
 // Removes the output file at `path` (if any; empty: nothing), when a later output failed.
 void RemoveOutput(const std::string& path);
-
 
 // Ok if a file could be created at `path` (its folder exists and is writable).
 Status CheckWritable(const std::string& path);

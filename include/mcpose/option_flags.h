@@ -36,16 +36,19 @@ void AddEstimatorFlags(CLI::App* cmd, unsigned groups, EstimatorFlags* flags);
 // The tracker's own flags (TrackerOptionFields), bound to `options`.
 void AddTrackerFlags(CLI::App* cmd, TrackerOptions* options);
 
-// Options from flags as the command line gives them ({"--samples", "300", "--no-refine"}),
-// over `base`; an error with the command line's message for a bad one.
+// The estimator's options from `args` ("--samples", "300", "--no-resolve-twins", ...), parsed
+// as `mcpose estimate` parses its flags: the same defaults, checks and one-line messages; over
+// `base` (default: the defaults). For front ends other than the command line (Python).
 StatusOr<EstimatorOptions> ParseEstimatorOptions(const std::vector<std::string>& args,
                                                  const EstimatorOptions& base = EstimatorOptions{});
 // The tracker's options from its flags and the estimator's (all but --max-instances).
 StatusOr<TrackerOptions> ParseTrackerOptions(const std::vector<std::string>& args);
-// Whether --`name` is an estimator flag without a value (--refine, --no-refine's positive).
+// Whether estimator flag `name` ("resolve-twins") is a switch (--name / --no-name) rather than
+// an option taking a value; false for an unknown name.
 bool IsEstimatorSwitch(const std::string& name);
 
-// A check of a seed's text: a whole number in [0, 2^64 - 1].
+// The check of every --seed: decimal digits that fit 64 bits. CLI11 alone would wrap -1 and
+// 2^64 around to other seeds.
 const CLI::Validator& SeedCheck();
 
 }  // namespace mcpose
