@@ -118,7 +118,7 @@ void AddMissesCommand(CLI::App& app, Status* status) {
   cmd->add_option("--min-adds-mm", args->min_adds_mm, "Answers with at least this ADD-S, mm")->capture_default_str();
   cmd->add_flag("--as-filter", args->as_filter,
                 "Weigh as the filter does (its level of detail and pixel stride), not at full resolution");
-  AddEstimatorFlags(cmd, cli::kWeightFlags | cli::kEngineFlags | cli::kAppearanceFlags | cli::kRefineFlags,
+  AddEstimatorFlags(cmd, kWeightOptions | kEngineOptions | kAppearanceOptions | kRefineOptions,
                          &args->flags);
   cmd->add_option("--json", args->json, "Also write each answer's weights and verdict as JSON");
   cmd->callback([args, status] { *status = RunMisses(*args); });

@@ -123,7 +123,7 @@ void AddTurnProfileCommand(CLI::App& app, Status* status) {
   cmd->add_option("--step-deg", args->turn.step_deg, "Turn step, degrees (divides 360, at most 45)")->capture_default_str();
   cmd->add_option("--near-deg", args->turn.near_deg, "Turns within this of the truth count as the truth")->capture_default_str();
   cmd->add_option("--models", args->models, "Models folder to read meshes (and their colour) from");
-  AddEstimatorFlags(cmd, cli::kWeightFlags | cli::kEngineFlags | cli::kAppearanceFlags, &args->flags);
+  AddEstimatorFlags(cmd, kWeightOptions | kEngineOptions | kAppearanceOptions, &args->flags);
   cmd->add_option("--json", args->json, "Also write each instance's profile (angles, weights) and the statistics");
   cmd->callback([args, status] { *status = RunTurnProfile(*args); });
 }

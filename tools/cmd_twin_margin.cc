@@ -153,7 +153,7 @@ void AddTwinMarginCommand(CLI::App& app, Status* status) {
       ->capture_default_str();
   cmd->add_option("--wrong-mm", args->wrong_mm, "A candidate beyond this ADD(-S) is wrong, mm")
       ->capture_default_str();
-  AddEstimatorFlags(cmd, cli::kWeightFlags | cli::kEngineFlags | cli::kAppearanceFlags | cli::kRefineFlags,
+  AddEstimatorFlags(cmd, kWeightOptions | kEngineOptions | kAppearanceOptions | kRefineOptions,
                          &args->flags);
   cmd->add_option("--json", args->json, "Also write each instance's margins as JSON");
   cmd->add_option("--results", args->results,

@@ -10,7 +10,6 @@
 
 #include "mcpose/limits.h"
 #include "mcpose/io_util.h"
-#include "mcpose/simd.h"
 
 namespace mcpose::cli {
 
@@ -101,6 +100,5 @@ Status KeepScoresAtLeast(double min_score, const std::string& source, std::vecto
   return Status::Ok();
 }
 
-std::string SimdTargets() { return render::SimdTargetsAvailable(); }
 
 }  // namespace mcpose::cli

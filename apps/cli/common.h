@@ -1,5 +1,5 @@
-// What the command-line programs (mcpose, mcpose-tools) share: the flag groups of the options
-// table (the flags themselves: mcpose/option_flags.h) and safe output files.
+// What the command-line programs (mcpose, mcpose-tools) share beside the option flags
+// (mcpose/option_flags.h, whose groups are the table's OptionGroup): safe output files.
 #pragma once
 
 #include <initializer_list>
@@ -18,19 +18,6 @@
 #include "mcpose/status.h"
 
 namespace mcpose::cli {
-
-// The groups of estimator flags a command takes (the table's groups, mcpose/option_table.h).
-enum FlagGroup : unsigned {
-  kSamplingFlags = kSamplingOptions,      // --samples --seed
-  kStoppingFlags = kStoppingOptions,      // --iterations --tau
-  kWeightFlags = kWeightOptions,          // --inlier --eps --weights --[no-]occlusion-aware --box-fit
-  kSearchFlags = kSearchOptions,          // initialization, resampling and diffusion
-  kEngineFlags = kEngineOptions,          // --engine, its features, --threads, --simd-target
-  kAppearanceFlags = kAppearanceOptions,  // --appearance and the colour term
-  kRefineFlags = kRefineOptions,          // --refine ...
-  kInstanceFlags = kInstanceOptions,      // --max-instances (estimation jobs, not tracking)
-  kAllEstimatorFlags = kAllOptions,
-};
 
 // Removes the output file at `path` (if any; empty: nothing), when a later output failed.
 void RemoveOutput(const std::string& path);
@@ -54,8 +41,5 @@ Status CheckOutputsOutsideDataset(const Dataset& dataset, std::initializer_list<
 // box, as the paper prescribes: the estimator weighs each box by its score instead). Refuses a
 // value outside [0, 1], and a threshold no detection of `source` meets.
 Status KeepScoresAtLeast(double min_score, const std::string& source, std::vector<Detection>* detections);
-
-// The SIMD targets this build and CPU offer, best first.
-std::string SimdTargets();
 
 }  // namespace mcpose::cli

@@ -153,7 +153,7 @@ Status RunBenchCommand(BenchArgs& a) {
     options["render_repeats"] = a.options.render_repeats;
     nlohmann::json doc = {{"machine",
                            {{"cpu", machine},
-                            {"simd_targets", SimdTargets()},
+                            {"simd_targets", render::SimdTargetsAvailable()},
                             {"threads", objects.empty() ? o.engine.threads : objects[0].threads}}},
                           {"options", options},
                           {"objects", arr}};
@@ -176,7 +176,7 @@ void AddBenchCommand(CLI::App& app, Status* status) {
   cmd->add_option("--repeats", args->options.render_repeats,
                   "Rounds of render + inlier on the initial hypotheses: each times every baseline once and mcpose "
                   "about as long")->capture_default_str();
-  AddEstimatorFlags(cmd, kSamplingFlags | kWeightFlags | kSearchFlags | kEngineFlags | kAppearanceFlags, &args->flags);
+  AddEstimatorFlags(cmd, kSamplingOptions | kWeightOptions | kSearchOptions | kEngineOptions | kAppearanceOptions, &args->flags);
   cmd->add_option("--baselines", args->baselines, "Comma-separated: embree,osmesa (same hypotheses, same boxes)");
   cmd->add_option("--json", args->json, "Write {machine, options, objects: [...]} here");
   cmd->callback([args, status] { *status = RunBenchCommand(*args); });

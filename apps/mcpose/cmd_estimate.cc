@@ -147,7 +147,7 @@ void AddEstimateCommand(CLI::App& app, Status* status) {
                   "(overrides --max-instances there; default: a BOP dataset's own, for the test split)");
   cmd->add_option("--out", args->out, "Results CSV (BOP format: scene_id,im_id,obj_id,score,R,t,time)")->required();
   cmd->add_option("--out-json", args->out_json, "Per-object detail: chosen box, per-iteration weights and times, engine counters");
-  AddEstimatorFlags(cmd, kAllEstimatorFlags, &args->flags);
+  AddEstimatorFlags(cmd, kAllOptions, &args->flags);
   cmd->add_flag("--resume", args->resume,
                 "Continue a run that was killed: keep the images its journal OUT.partial finished, estimate the rest");
   cmd->add_flag("-q,--quiet", args->quiet, "No progress output");

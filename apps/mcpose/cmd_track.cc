@@ -117,7 +117,7 @@ void AddTrackCommand(CLI::App& app, Status* status) {
   cmd->add_option("--out", args->out, "Results CSV, one row per (frame, object)")->required();
   cmd->add_option("--out-json", args->out_json, "Per (frame, object): started, tracked or lost, weight, fit, iterations, box, time");
   AddTrackerFlags(cmd, &t);
-  AddEstimatorFlags(cmd, kAllEstimatorFlags & ~kInstanceFlags, &args->flags);
+  AddEstimatorFlags(cmd, kAllOptions & ~kInstanceOptions, &args->flags);
   cmd->add_flag("-q,--quiet", args->quiet, "No progress output");
   cmd->callback([args, status] { *status = RunTrack(*args); });
 }
