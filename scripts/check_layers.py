@@ -17,6 +17,7 @@ LEVELS = {
     "core": 0,        # types, options and their table, random streams, threads
     "io": 1,          # file formats and datasets
     "render": 2,      # the raster core: z-buffer rendering, LOD, SIMD kernels
+    "hw": 2,          # the paper's raster core in the hardware's integer numerics
     "filter": 3,      # particles, resampling, diffusion
     "refine": 3,      # depth alignment
     "score": 3,       # inlier counts, colour term and colour grid, the weight

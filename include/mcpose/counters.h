@@ -16,6 +16,8 @@
   X(culled_outside_box, "triangles that miss the sample's box")                                \
   X(culled_near, "triangles with a vertex behind the near plane")                              \
   X(culled_between_pixels, "triangles that cover no pixel centre")                             \
+  X(culled_hw_range, "triangles outside the hardware core's range (engine hw): a vertex "       \
+                     "beyond its guard band or a side over 255 pixels")                        \
   X(triangles_rasterized, "triangles that covered at least one pixel centre")                  \
   X(fragments, "pixel centres covered, before the depth test")                                 \
   X(clusters, "culling clusters tested (cluster_culling)")                                     \

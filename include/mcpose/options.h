@@ -39,9 +39,11 @@ enum class RasterBackend {
   kSimd,        // kFixedPoint with rows, vertices and counts a Highway vector at a time;
                 // bit-identical to kFixedPoint
   kFloatSimd,   // kScalar a Highway vector at a time; bit-identical to kScalar
+  kHardware,    // the paper's raster core in the hardware's integer numerics (docs/hardware.md):
+                // 1-D inliers only, every triangle walked
 };
 
-// "scalar" / "fixed" / "simd" / "float-simd" (RasterBackendNames() in mcpose/option_table.h);
+// "scalar" / "fixed" / "simd" / "float-simd" / "hw" (RasterBackendNames() in mcpose/option_table.h);
 // false for an unknown name.
 bool ParseRasterBackend(const std::string& name, RasterBackend* backend);
 const char* RasterBackendName(RasterBackend backend);

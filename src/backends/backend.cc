@@ -36,7 +36,15 @@ score::InlierCounts Count(const BoxTarget& target, const float* zbuf, const rend
   } else {
     counts = score::CountInliers1DInRect(zbuf, box.observed.data(), stride, rel, box.n_observed, settings.eps_m);
   }
-  if (!target.colour) return counts;
+  if (target.colour) counts.colour = CountColour(target, zbuf, rel, R, t, settings, simd);
+  return counts;
+}
+
+score::ColourStats CountColour(const BoxTarget& target, const float* zbuf, const render::PixelRect& rel,
+                               const Eigen::Matrix3f& R, const Eigen::Vector3f& t, const SampleSettings& settings,
+                               bool simd) {
+  const score::BoxObservation& box = *target.observed;
+  const int stride = box.rect.width();
   // The colour of the depth inliers: camera to model is (R^T, -R^T t).
   score::ColourSample c;
   c.rendered = zbuf;
@@ -53,8 +61,7 @@ score::InlierCounts Count(const BoxTarget& target, const float* zbuf, const rend
   const Eigen::Vector3f tm = -(Rt * t);
   for (int i = 0; i < 9; ++i) c.R_model_cam[i] = Rt(i / 3, i % 3);
   for (int a = 0; a < 3; ++a) c.t_model_cam[a] = tm[a];
-  counts.colour = simd ? score::CountColourSimd(c, *target.colour) : score::CountColour(c, *target.colour);
-  return counts;
+  return simd ? score::CountColourSimd(c, *target.colour) : score::CountColour(c, *target.colour);
 }
 
 }  // namespace mcpose::backends::steps

@@ -4,6 +4,7 @@
 //   float_simd.cc         the reference a Highway vector at a time (bit-identical)
 //   fixed_point.cc        vertices snapped to 1/16 pixel, integer edge functions
 //   fixed_point_simd.cc   the fixed-point core a Highway vector at a time (bit-identical)
+//   hardware.cc           the paper's raster core in the hardware's integer numerics (hw/)
 // The engine (engine/raster_cores.h) chooses one per estimate and calls it for every sample on
 // every raster core; adding a backend means one file and a line in registry.cc.
 #pragma once
@@ -17,6 +18,7 @@
 
 #include "mcpose/mesh.h"
 #include "mcpose/options.h"
+#include "hw/raster_core.h"
 #include "render/clusters.h"
 #include "render/raster.h"
 #include "render/raster_fixed.h"
@@ -33,6 +35,8 @@ struct BoxTarget {
   const Mesh* mesh = nullptr;
   const render::ClusterSet* clusters = nullptr;  // null: walk every triangle
   const score::ColourLookup* colour = nullptr;   // null: depth only
+  // `mesh` in the hardware's formats (hw::QuantizeModel): needed by the hw backend only.
+  const std::vector<hw::ModelVertex>* hw_model = nullptr;
 };
 
 // Settings of a whole batch (from EstimatorOptions).
@@ -51,6 +55,9 @@ struct Scratch {
   render::SnappedVertices snapped;
   std::vector<render::ClusterCull> culls;
   std::vector<std::array<uint32_t, 3>> kept_triangles;
+  // The hardware model's (hardware.cc): the vertices, the IZ z-buffer.
+  std::vector<hw::Vertex> hw_vertices;
+  std::vector<uint32_t> hw_zbuf;
 };
 
 class Backend {
@@ -83,6 +90,11 @@ void ClearScalar(float* zbuf, int stride, const render::PixelRect& rel);
 score::InlierCounts Count(const BoxTarget& box, const float* zbuf, const render::PixelRect& rel,
                           const Eigen::Matrix3f& R, const Eigen::Vector3f& t, const SampleSettings& settings,
                           bool simd);
+// The colour test of Count alone (box.colour must be set): the colour of the depth inliers of
+// the pose R, t rendered into zbuf.
+score::ColourStats CountColour(const BoxTarget& box, const float* zbuf, const render::PixelRect& rel,
+                               const Eigen::Matrix3f& R, const Eigen::Vector3f& t, const SampleSettings& settings,
+                               bool simd);
 
 }  // namespace steps
 

@@ -108,9 +108,50 @@ TEST(Backends, ClusterCullingKeepsTheFixedPointCounts) {
   }
 }
 
+// The hardware numerics (hw/) against the float reference: the same pixels to a fraction of a
+// percent (coverage on its own 1/16-pixel grid, depth from its IZ plane), the same counts at any
+// thread count.
+TEST(Backends, HardwareAgreesWithTheReferenceOnRandomPoses) {
+  for (bool cull : {true, false}) {
+    Scene s = MakeScene(240, InlierMode::k1D, 21 + cull);
+    const float eps = 0.01f;
+    for (score::BoxObservation& box : s.boxes) score::AddDepthBounds(&box, eps);
+    std::vector<hw::ModelVertex> model;
+    ASSERT_TRUE(hw::QuantizeModel(s.mesh.vertices_m, &model));
+    std::vector<BoxTarget> targets = {{&s.boxes[0], &s.mesh, nullptr}, {&s.boxes[1], &s.mesh, nullptr}};
+    for (BoxTarget& t : targets) t.hw_model = &model;
+    SampleSettings settings;
+    settings.eps_m = eps;
+    settings.cull_backfaces = cull;
+    settings.batched_setup = false;
+    RasterCounters ref_stats, hw_stats;
+    const auto reference = Score(RasterBackend::kScalar, 1, targets, settings, s.particles, &ref_stats);
+    const auto hw = Score(RasterBackend::kHardware, 1, targets, settings, s.particles, &hw_stats);
+    int64_t rendered = 0, inliers = 0, diff_rendered = 0, diff_inliers = 0, diff_occluded = 0;
+    for (size_t i = 0; i < hw.size(); ++i) {
+      rendered += reference[i].rendered, inliers += reference[i].inliers;
+      diff_rendered += std::abs(hw[i].rendered - reference[i].rendered);
+      diff_inliers += std::abs(hw[i].inliers - reference[i].inliers);
+      diff_occluded += std::abs(hw[i].occluded - reference[i].occluded);
+      EXPECT_EQ(hw[i].observed, reference[i].observed);
+    }
+    ASSERT_GT(inliers, 1000);
+    EXPECT_LE(diff_rendered, 0.01 * rendered) << "cull " << cull;
+    EXPECT_LE(diff_inliers, 0.01 * inliers) << "cull " << cull;
+    EXPECT_LE(diff_occluded, 0.01 * rendered) << "cull " << cull;
+    EXPECT_EQ(hw_stats.triangles_in, ref_stats.triangles_in);
+    EXPECT_EQ(hw_stats.culled_hw_range, 0);
+    EXPECT_EQ(hw_stats.triangles_rasterized + hw_stats.culled_backface + hw_stats.culled_degenerate +
+                  hw_stats.culled_outside_box + hw_stats.culled_near + hw_stats.culled_between_pixels +
+                  hw_stats.culled_hw_range,
+              hw_stats.triangles_in);
+    for (int threads : {2, 3}) EXPECT_EQ(Score(RasterBackend::kHardware, threads, targets, settings, s.particles), hw);
+  }
+}
+
 TEST(Backends, RegistryGivesEachKind) {
-  for (RasterBackend kind :
-       {RasterBackend::kScalar, RasterBackend::kFloatSimd, RasterBackend::kFixedPoint, RasterBackend::kSimd})
+  for (RasterBackend kind : {RasterBackend::kScalar, RasterBackend::kFloatSimd, RasterBackend::kFixedPoint,
+                             RasterBackend::kSimd, RasterBackend::kHardware})
     EXPECT_EQ(MakeBackend(kind)->kind(), kind);
 }
 

@@ -9,6 +9,7 @@ std::unique_ptr<Backend> MakeScalarReference();
 std::unique_ptr<Backend> MakeFloatSimd();
 std::unique_ptr<Backend> MakeFixedPoint();
 std::unique_ptr<Backend> MakeFixedPointSimd();
+std::unique_ptr<Backend> MakeHardware();
 
 std::unique_ptr<Backend> MakeBackend(RasterBackend kind) {
   std::unique_ptr<Backend> backend;
@@ -17,6 +18,7 @@ std::unique_ptr<Backend> MakeBackend(RasterBackend kind) {
     case RasterBackend::kFloatSimd: backend = MakeFloatSimd(); break;
     case RasterBackend::kFixedPoint: backend = MakeFixedPoint(); break;
     case RasterBackend::kSimd: backend = MakeFixedPointSimd(); break;
+    case RasterBackend::kHardware: backend = MakeHardware(); break;
   }
   MCPOSE_CHECK(backend != nullptr);
   MCPOSE_CHECK(backend->kind() == kind);

@@ -89,6 +89,8 @@ bool EstimatorOptions::IsValid(std::string* error) const {
     return Fail(error, "engine.cluster_culling needs a fixed-point engine.backend (fixed or simd), not " + backend);
   if (engine.batched_setup && !IsFixedPoint(engine.backend))
     return Fail(error, "engine.batched_setup needs a fixed-point engine.backend (fixed or simd), not " + backend);
+  if (engine.backend == RasterBackend::kHardware && weight.inlier != InlierMode::k1D)
+    return Fail(error, "engine.backend hw counts 1-D inliers only (weight.inlier 1d), as the paper's hardware does");
   return true;
 }
 

@@ -88,7 +88,8 @@ TEST(EngineOptions, ReferenceAndDroppedFeaturesAreValid) {
   EXPECT_EQ(o.engine.pixel_stride, 1);
   EXPECT_EQ(o.engine.lod_error_px, 0);
   for (RasterBackend b :
-       {RasterBackend::kScalar, RasterBackend::kFixedPoint, RasterBackend::kSimd, RasterBackend::kFloatSimd}) {
+       {RasterBackend::kScalar, RasterBackend::kFixedPoint, RasterBackend::kSimd, RasterBackend::kFloatSimd,
+        RasterBackend::kHardware}) {
     for (double lod : {0.0, 2.0}) {
       EstimatorOptions e;
       e.engine.backend = b;
@@ -102,9 +103,21 @@ TEST(EngineOptions, ReferenceAndDroppedFeaturesAreValid) {
   }
 }
 
+TEST(EstimatorOptions, HardwareBackendCountsOneDimensionalInliersOnly) {
+  EstimatorOptions o;
+  o.engine.backend = RasterBackend::kHardware;
+  o.engine.DropUnusableFeatures();
+  std::string error;
+  EXPECT_TRUE(o.IsValid(&error)) << error;
+  o.weight.inlier = InlierMode::k3D;
+  EXPECT_FALSE(o.IsValid(&error));
+  EXPECT_NE(error.find("engine.backend hw"), std::string::npos) << error;
+}
+
 TEST(EstimatorOptions, BackendNamesRoundTrip) {
   for (RasterBackend b :
-       {RasterBackend::kScalar, RasterBackend::kFixedPoint, RasterBackend::kSimd, RasterBackend::kFloatSimd}) {
+       {RasterBackend::kScalar, RasterBackend::kFixedPoint, RasterBackend::kSimd, RasterBackend::kFloatSimd,
+        RasterBackend::kHardware}) {
     RasterBackend parsed;
     ASSERT_TRUE(ParseRasterBackend(RasterBackendName(b), &parsed));
     EXPECT_EQ(parsed, b);

@@ -65,6 +65,7 @@ StatusOr<std::unique_ptr<BoxScorer>> BoxScorer::Create(Context& context, const I
                            " but the depth image is " + std::to_string(depth.width) + "x" + std::to_string(depth.height));
   }
   MCPOSE_RETURN_IF_ERROR(mesh.Validate("mesh"));
+
   if (boxes.empty()) return InvalidArgument("no boxes given");
   for (size_t b = 0; b < boxes.size(); ++b) {
     const std::string where = "box " + std::to_string(b) + " of obj_id " + std::to_string(boxes[0].obj_id) + ": ";
@@ -91,6 +92,8 @@ StatusOr<std::unique_ptr<BoxScorer>> BoxScorer::Create(Context& context, const I
     s.observed_.push_back(score::DistributeBox(depth, K, rect, d.score, opt.weight.inlier, stride,
                                                s.colour_ ? colour : nullptr, transform,
                                                opt.appearance.smooth_radius, opt.appearance.drop_clipped));
+    if (opt.engine.backend == RasterBackend::kHardware)
+      score::AddDepthBounds(&s.observed_.back(), static_cast<float>(opt.weight.eps_m));
   }
   // ---- Level of detail: per box, the coarsest mesh within the pixel error budget ----------
   if (resolution == Resolution::kEngine) s.lod_ = context.Lod(mesh);
@@ -104,6 +107,22 @@ StatusOr<std::unique_ptr<BoxScorer>> BoxScorer::Create(Context& context, const I
     }
     s.levels_.push_back(level);
     s.targets_.push_back(target);
+  }
+  // ---- The hardware's formats of each distinct mesh (engine backend hw) --------------------
+  if (opt.engine.backend == RasterBackend::kHardware) {
+    for (backends::BoxTarget& target : s.targets_) {
+      auto it = std::find_if(s.hw_models_.begin(), s.hw_models_.end(),
+                             [&](const auto& m) { return m.first == target.mesh; });
+      if (it == s.hw_models_.end()) {
+        auto quantized = std::make_unique<std::vector<hw::ModelVertex>>();
+        if (!hw::QuantizeModel(target.mesh->vertices_m, quantized.get()))
+          return InvalidArgument("mesh: a vertex more than 0.8192 m from the model's origin, beyond the range of "
+                                 "engine backend hw (model coordinates: 16 bits of 25 um)");
+        s.hw_models_.emplace_back(target.mesh, std::move(quantized));
+        it = std::prev(s.hw_models_.end());
+      }
+      target.hw_model = it->second.get();
+    }
   }
   s.depth_ = &depth;
   if (resolution == Resolution::kEngine) s.rests_ = context.Rests(mesh);

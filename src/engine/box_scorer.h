@@ -92,6 +92,8 @@ class BoxScorer {
   std::shared_ptr<const render::LodChain> lod_;
   std::vector<const render::LodLevel*> levels_;
   std::vector<backends::BoxTarget> targets_;
+  // The meshes of targets_ in the hardware's formats (engine backend hw), one per distinct mesh.
+  std::vector<std::pair<const Mesh*, std::unique_ptr<const std::vector<hw::ModelVertex>>>> hw_models_;
   backends::SampleSettings settings_;
   std::shared_ptr<const appearance::ColourGrid> colour_;
   score::ColourLookup colour_lookup_;

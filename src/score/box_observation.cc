@@ -100,6 +100,13 @@ std::vector<uint32_t> ObservedColour(const ColourImage& image, const DepthImage*
   return out;
 }
 
+void AddDepthBounds(BoxObservation* box, float eps_m) {
+  const std::vector<int32_t> d = hw::ObservedDepthUnits(box->observed);
+  const int32_t eps = hw::EpsUnits(eps_m);
+  box->depth_bounds.resize(d.size());
+  for (size_t i = 0; i < d.size(); ++i) box->depth_bounds[i] = hw::InlierBounds(d[i], eps);
+}
+
 render::RasterParams BoxRasterParams(const BoxObservation& box, bool cull_backfaces) {
   render::RasterParams params;
   params.fx = static_cast<float>(box.K_grid.fx);

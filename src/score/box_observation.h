@@ -11,6 +11,7 @@
 #include <memory>
 #include <vector>
 
+#include "hw/raster_core.h"
 #include "mcpose/camera.h"
 #include "mcpose/image.h"
 #include "mcpose/options.h"
@@ -31,7 +32,13 @@ struct BoxObservation {
   std::unique_ptr<ObservedCloud> cloud;  // only for InlierMode::k3D
   // Rect-sized observed colour, RGBA8 packed (red in the low byte), or empty without colour.
   std::vector<uint32_t> observed_rgba;
+  // The hardware depth distributor's words (hw/raster_core.h), rect-sized: only for the engine
+  // backend hw (AddDepthBounds).
+  std::vector<hw::DepthBounds> depth_bounds;
 };
+
+// Sets box->depth_bounds from its observed depth for the inlier threshold eps_m.
+void AddDepthBounds(BoxObservation* box, float eps_m);
 
 // The BoxObservation of `rect` (image pixels, inside the image) at pixel stride `stride` >= 1,
 // with the colour of `colour` (same size as `depth`) when it is given (ObservedColour), each
