@@ -11,6 +11,7 @@ PACKAGES=(
   libhwy-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libembree-dev libosmesa6-dev
+  verilator yosys
   clang libclang-rt-14-dev
   chromium fonts-dejavu-core pngquant
   python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-dask python3-distributed

@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   mcpose::tools::AddMissesCommand(app, &status);
   mcpose::tools::AddRelightCommand(app, &status);
   mcpose::tools::AddTwinMarginCommand(app, &status);
+  mcpose::tools::AddHwWorkloadCommand(app, &status);
   app.add_subcommand("options-table",
                      "Print the estimator's options table (docs/options.md holds it; a test checks it is current)")
       ->callback([] { std::fputs(mcpose::OptionTableMarkdown().c_str(), stdout); });

@@ -21,5 +21,6 @@ void AddRefineFloorCommand(CLI::App& app, Status* status);
 void AddMissesCommand(CLI::App& app, Status* status);
 void AddRelightCommand(CLI::App& app, Status* status);
 void AddTwinMarginCommand(CLI::App& app, Status* status);
+void AddHwWorkloadCommand(CLI::App& app, Status* status);
 
 }  // namespace mcpose::tools

@@ -84,6 +84,13 @@ using BenchProgressFn = std::function<void(const BenchObject&)>;
 StatusOr<std::vector<BenchObject>> RunBench(const Dataset& dataset, const BenchOptions& options,
                                             const BenchProgressFn& progress);
 
+// The hardware workload: for each object of `options` (the paper's five by default), the initial
+// hypotheses of one `mcpose bench` iteration (its frame, box, LOD level and samples, with
+// options.estimator's engine settings but the hw backend) in the raster core's formats, with the
+// counts of the C++ model of the core (engine backend hw), written as text to `out` for the RTL
+// testbench (hw/sim/, format in docs/hardware.md). Returns the samples written.
+StatusOr<int64_t> WriteHardwareWorkload(const Dataset& dataset, const BenchOptions& options, std::ostream& out);
+
 // "model name (family F model M), N logical CPUs" of this machine (from /proc/cpuinfo), for
 // records; "unknown CPU, N logical CPUs" where /proc/cpuinfo says nothing.
 std::string MachineDescription();

@@ -6,6 +6,8 @@
 // hardware does not have, runs beside it on the z-buffer in metres.
 #include "backends/backend.h"
 
+#include <algorithm>
+
 #include "core/check.h"
 
 namespace mcpose::backends {
@@ -47,8 +49,7 @@ class Hardware final : public Backend {
       stats->culled_hw_range += core.guard_band + core.too_large;
     }
     if (box.colour) {
-      const std::span<render::ScreenVertex> unused = steps::Prepare(box, s);  // sizes the float z-buffer
-      (void)unused;
+      s->zbuf.resize(std::max(s->zbuf.size(), area + render::kSimdPadFloats));
       for (size_t i = 0; i < area; ++i) s->zbuf[i] = hw::DepthMetres(s->hw_zbuf[i]);
       const render::PixelRect whole{0, 0, obs.rect.width(), obs.rect.height()};
       counts.colour = steps::CountColour(box, s->zbuf.data(), whole, R, t, settings, /*simd=*/false);

@@ -304,4 +304,61 @@ StatusOr<std::vector<BenchObject>> RunBench(const Dataset& ds, const BenchOption
   return out;
 }
 
+StatusOr<int64_t> WriteHardwareWorkload(const Dataset& ds, const BenchOptions& options, std::ostream& out) {
+  std::vector<int> ids = options.obj_ids;
+  if (ids.empty()) ids = {2, 4, 5, 9, 10};
+  EstimatorOptions eo = options.estimator;
+  eo.engine.backend = RasterBackend::kHardware;
+  eo.engine.DropUnusableFeatures();
+  eo.weight.inlier = InlierMode::k1D;
+  std::string error;
+  if (!eo.IsValid(&error)) return InvalidArgument("invalid options: " + error);
+  engine::Context context(eo);
+  int64_t written = 0;
+  out << "# mcpose hardware workload v1: per object its box's depth bounds, its mesh and its samples\n";
+  for (int obj_id : ids) {
+    Frame frame;
+    Detection box;
+    MCPOSE_RETURN_IF_ERROR(FindObject(ds, obj_id, &frame, &box));
+    MCPOSE_ASSIGN_OR_RETURN(Mesh mesh, ds.LoadMesh(obj_id));
+    MCPOSE_ASSIGN_OR_RETURN(std::unique_ptr<engine::BoxScorer> scorer,
+                            engine::BoxScorer::Create(context, frame.K, frame.depth, mesh, std::span(&box, 1)));
+    const uint64_t stream_id = GroupStreamId(frame.key.scene_id, frame.key.image_id, obj_id);
+    filter::ParticleSet particles;
+    engine::InitializeSamples(*scorer, eo, stream_id, &particles);
+    std::vector<score::InlierCounts> counts(particles.size());
+    EngineCounters ignored;
+    scorer->Count(particles, counts, &ignored);
+    // The core's inputs, as the hw backend forms them.
+    const score::BoxObservation& obs = scorer->box_observation(0);
+    const render::RasterParams p = score::BoxRasterParams(obs, eo.engine.backface_culling);
+    const hw::Camera c =
+        hw::QuantizeCamera(p.fx, p.fy, p.cx, p.cy, p.box.x0, p.box.y0, p.box.width(), p.box.height(), p.z_near_m);
+    const Mesh& level = scorer->box_mesh(0);
+    std::vector<hw::ModelVertex> model;
+    if (!hw::QuantizeModel(level.vertices_m, &model)) return Internal("mesh out of the hardware's range");
+    out << "object " << obj_id << ' ' << ds.ObjectName(obj_id) << " frame " << frame.key.scene_id << ' '
+        << frame.key.image_id << '\n';
+    out << "camera " << c.fx << ' ' << c.fy << ' ' << c.cx << ' ' << c.cy << ' ' << c.z_near << ' ' << c.width << ' '
+        << c.height << ' ' << (eo.engine.backface_culling ? 1 : 0) << '\n';
+    out << "bounds " << obs.depth_bounds.size() << '\n';
+    for (const hw::DepthBounds& b : obs.depth_bounds) out << b.lo << ' ' << b.hi << '\n';
+    out << "vertices " << model.size() << '\n';
+    for (const hw::ModelVertex& v : model) out << v[0] << ' ' << v[1] << ' ' << v[2] << '\n';
+    out << "triangles " << level.triangles.size() << '\n';
+    for (const auto& t : level.triangles) out << t[0] << ' ' << t[1] << ' ' << t[2] << '\n';
+    out << "samples " << particles.size() << '\n';
+    for (size_t i = 0; i < particles.size(); ++i) {
+      const hw::Pose pose = hw::QuantizePose(particles.R_cam_obj[i].cast<float>(), particles.t_cam_obj_m[i].cast<float>());
+      for (int32_t r : pose.R) out << r << ' ';
+      for (int32_t t : pose.t) out << t << ' ';
+      out << counts[i].inliers << ' ' << counts[i].rendered << ' ' << counts[i].occluded << '\n';
+    }
+    written += static_cast<int64_t>(particles.size());
+  }
+  out << "end\n";
+  if (!out) return Internal("cannot write the workload");
+  return written;
+}
+
 }  // namespace mcpose::bench

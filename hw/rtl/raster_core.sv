@@ -1,0 +1,403 @@
+// The paper's raster core: one sample's triangles in, its depth inlier counts out, the z-buffer
+// and the box's depth bounds in block RAM. Bit-exact with the C++ model in src/hw/raster_core.cc
+// (docs/hardware.md gives every signal's width and why it suffices); checked by hw/sim.
+//
+// A sample: pulse `start` with the sample's pose, camera and box held on the inputs until
+// `done`; the core clears the z-buffer (one pixel a clock), then takes triangles (three model
+// vertices each) while `tri_ready`, and `flush` when the last is in; it then counts the box
+// (one pixel a clock) and pulses `done` with the counts. The depth distributor writes the box's
+// bounds through the bnd_* port between samples.
+//
+// Per triangle: each vertex transformed (three multiply-adds), then projected by three dividers
+// at once (IZ, U, V; 64 clocks each), the setup in one clock, the IZ plane by three dividers
+// at once, then the triangle's bounding box a pixel a clock (two for a covered pixel: read, then
+// compare and write).
+module raster_core #(
+    parameter int AW = 13,  // z-buffer and bound words: 2^AW box pixels
+    parameter int DEBUG = 0  // 1: a read port on the z-buffer for the testbench
+) (
+    input logic clk,
+    input logic rst,
+
+    // The depth distributor's port: bounds (lo, hi) of box pixel bnd_addr (row-major).
+    input logic          bnd_we,
+    input logic [AW-1:0] bnd_addr,
+    input logic [  31:0] bnd_lo,
+    input logic [  31:0] bnd_hi,
+
+    // The sample: rotation Q1.16 (row-major, 18 bits each), translation (quarter depth units),
+    // camera relative to the box corner (hw::Camera), box size in grid pixels, backface culling.
+    input logic [9*18-1:0] pose_r,
+    input logic [3*32-1:0] pose_t,
+    input logic [    31:0] cam_fx,
+    input logic [    31:0] cam_fy,
+    input logic [    31:0] cam_cx,
+    input logic [    31:0] cam_cy,
+    input logic [    31:0] cam_z_near,
+    input logic [    10:0] box_w,
+    input logic [    10:0] box_h,
+    input logic            cull,
+    input logic            start,
+
+    // Triangles: vertex k's coordinate a at bits [(3 k + a) 16 +: 16], quarter depth units.
+    input  logic          tri_valid,
+    input  logic [9*16-1:0] tri_v,
+    output logic          tri_ready,
+    input  logic          flush,
+
+    output logic        done,
+    output logic [31:0] inliers,
+    output logic [31:0] rendered,
+    output logic [31:0] occluded,
+    output logic [31:0] drawn,      // triangles that covered a pixel centre
+    output logic [31:0] fragments,  // pixel centres covered
+
+    input  logic [AW-1:0] dbg_addr,
+    output logic [  31:0] dbg_z
+);
+  localparam logic signed [63:0] ONE = 64'sd16;  // a pixel in 1/16 pixel
+  localparam logic signed [63:0] BAND = 64'sd16368;  // 1023 pixels
+  localparam logic signed [63:0] MAX_SPAN = 64'sd4080;  // 255 pixels
+  localparam logic signed [63:0] MAX_IZ = 64'sd4294967295;
+
+  // ---- Memories -------------------------------------------------------------------------
+  logic [31:0] zbuf[2**AW];
+  logic [63:0] bounds[2**AW];
+  logic [AW-1:0] z_raddr, z_waddr, b_raddr;
+  logic z_we;
+  logic [31:0] z_wdata, z_rdata;
+  logic [63:0] b_rdata;
+  always_ff @(posedge clk) begin
+    if (z_we) zbuf[z_waddr] <= z_wdata;
+    z_rdata <= zbuf[z_raddr];
+  end
+  always_ff @(posedge clk) begin
+    if (bnd_we) bounds[bnd_addr] <= {bnd_hi, bnd_lo};
+    b_rdata <= bounds[b_raddr];
+  end
+  generate
+    if (DEBUG != 0) begin : g_debug
+      always_ff @(posedge clk) dbg_z <= zbuf[dbg_addr];
+    end else begin : g_no_debug
+      assign dbg_z = '0;
+      logic unused_dbg;
+      assign unused_dbg = ^dbg_addr;
+    end
+  endgenerate
+
+  // ---- State ----------------------------------------------------------------------------
+  typedef enum logic [3:0] {
+    S_IDLE, S_CLEAR, S_WAIT, S_XFORM, S_XDIV, S_SETUP, S_SDIV, S_FILL, S_FILL_WR, S_COUNT, S_COUNT_LAST, S_DONE
+  } state_t;
+  state_t state;
+
+  logic [21:0] pixels;  // box_w * box_h
+  assign pixels = box_w * box_h;
+  logic [21:0] addr;  // clear and count walk
+
+  // ---- Vertex transform -----------------------------------------------------------------
+  logic [1:0] vk;  // the vertex being transformed
+  logic [9*16-1:0] tv;  // the triangle's model vertices
+  logic signed [63:0] cam[3];
+  always_comb begin
+    for (int r = 0; r < 3; r++) begin
+      logic signed [63:0] acc;
+      acc = 64'(signed'(pose_r[(3 * r) * 18 +: 18])) * 64'(signed'(tv[(3 * vk + 0) * 16 +: 16])) +
+            64'(signed'(pose_r[(3 * r + 1) * 18 +: 18])) * 64'(signed'(tv[(3 * vk + 1) * 16 +: 16])) +
+            64'(signed'(pose_r[(3 * r + 2) * 18 +: 18])) * 64'(signed'(tv[(3 * vk + 2) * 16 +: 16]));
+      cam[r] = ((acc + 64'sd32768) >>> 16) + 64'(signed'(pose_t[r * 32 +: 32]));
+    end
+  end
+  logic xnear;
+  assign xnear = cam[2] < 64'(signed'(cam_z_near));
+
+  // The three dividers of the projection (IZ, U, V), reused for the IZ plane.
+  logic div_start;
+  logic signed [63:0] div_num[3], div_den[3], div_quo[3];
+  logic [2:0] div_done;
+  for (genvar i = 0; i < 3; i++) begin : g_div
+    sfloordiv #(.W(64)) d (
+        .clk(clk), .rst(rst), .start(div_start), .num(div_num[i]), .den(div_den[i]),
+        /* verilator lint_off PINCONNECTEMPTY */
+        .busy(),
+        /* verilator lint_on PINCONNECTEMPTY */
+        .done(div_done[i]), .quo(div_quo[i])
+    );
+  end
+
+  // Per-vertex results.
+  logic signed [63:0] vu[3], vv[3];
+  logic [31:0] viz[3];
+  logic [2:0] vnear, vband;
+
+  // ---- Setup (combinational over the three vertices) ------------------------------------
+  logic signed [63:0] X[3], Y[3];
+  logic signed [63:0] bw, bh;  // the box size, signed for the comparisons below
+  assign bw = {53'b0, box_w};
+  assign bh = {53'b0, box_h};
+  always_comb for (int k = 0; k < 3; k++) begin
+    X[k] = vu[k];
+    Y[k] = vv[k];
+  end
+  logic signed [63:0] area, neg_area, min_x, max_x, min_y, max_y;
+  logic [1:0] ib, ic;
+  logic signed [63:0] x_lo, x_hi, y_lo, y_hi;
+  logic signed [63:0] s_w[3], s_sx[3], s_sy[3];
+  logic signed [63:0] plane, plane_x, plane_y;
+  logic [3:0] verdict;  // 0: ready, else culled
+  always_comb begin
+    logic signed [63:0] px0, py0, dx, dy, e, iz;
+    logic [1:0] e0[3], e1[3], opp[3];
+    area = (X[1] - X[0]) * (Y[2] - Y[0]) - (Y[1] - Y[0]) * (X[2] - X[0]);
+    ib = (area > 0) ? 2'd2 : 2'd1;
+    ic = (area > 0) ? 2'd1 : 2'd2;
+    neg_area = (area > 0) ? area : -area;  // -area of the oriented triangle
+    min_x = X[0]; max_x = X[0]; min_y = Y[0]; max_y = Y[0];
+    for (int k = 1; k < 3; k++) begin
+      if (X[k] < min_x) min_x = X[k];
+      if (X[k] > max_x) max_x = X[k];
+      if (Y[k] < min_y) min_y = Y[k];
+      if (Y[k] > max_y) max_y = Y[k];
+    end
+    x_lo = (min_x + ONE - 1) >>> 4; if (x_lo < 0) x_lo = 0;
+    x_hi = max_x >>> 4; if (x_hi > bw - 1) x_hi = bw - 1;
+    y_lo = (min_y + ONE - 1) >>> 4; if (y_lo < 0) y_lo = 0;
+    y_hi = max_y >>> 4; if (y_hi > bh - 1) y_hi = bh - 1;
+    if (vnear != 3'b000) verdict = 4'd1;
+    else if (vband != 3'b111) verdict = 4'd2;
+    else if (area == 0) verdict = 4'd3;
+    else if (area > 0 && cull) verdict = 4'd4;
+    else if (max_x < 0 || min_x > (bw - 1) * ONE || max_y < 0 || min_y > (bh - 1) * ONE)
+      verdict = 4'd5;
+    else if (max_x - min_x > MAX_SPAN || max_y - min_y > MAX_SPAN) verdict = 4'd6;
+    else if (x_lo > x_hi || y_lo > y_hi) verdict = 4'd7;
+    else verdict = 4'd0;
+    e0[0] = ic; e0[1] = 2'd0; e0[2] = ib;
+    e1[0] = ib; e1[1] = ic; e1[2] = 2'd0;
+    opp[0] = 2'd0; opp[1] = ib; opp[2] = ic;
+    px0 = x_lo * ONE;
+    py0 = y_lo * ONE;
+    plane = 0; plane_x = 0; plane_y = 0;
+    for (int k = 0; k < 3; k++) begin
+      dx = X[e1[k]] - X[e0[k]];
+      dy = Y[e1[k]] - Y[e0[k]];
+      e = dx * (py0 - Y[e0[k]]) - dy * (px0 - X[e0[k]]);
+      s_w[k] = e - (((dy == 0 && dx < 0) || dy > 0) ? 64'sd0 : 64'sd1);
+      s_sx[k] = -dy * ONE;
+      s_sy[k] = dx * ONE;
+      iz = 64'(viz[opp[k]]);
+      plane = plane + e * iz;
+      plane_x = plane_x + s_sx[k] * iz;
+      plane_y = plane_y + s_sy[k] * iz;
+    end
+  end
+
+  // ---- Fill registers -------------------------------------------------------------------
+  logic signed [63:0] f_w[3], f_wrow[3], f_sx[3], f_sy[3];
+  logic signed [63:0] f_iz, f_izrow, f_izsx, f_izsy;
+  logic [10:0] f_x, f_y, f_xlo, f_xhi, f_yhi;
+  logic [21:0] f_base;  // f_y * box_w
+  logic f_covered;
+  logic [31:0] f_value;
+  logic signed [63:0] f_shifted;
+  assign f_covered = !f_w[0][63] && !f_w[1][63] && !f_w[2][63];
+  always_comb begin
+    f_shifted = f_iz >>> 8;
+    if (f_shifted < 1) f_value = 32'd1;
+    else if (f_shifted > MAX_IZ) f_value = 32'hffffffff;
+    else f_value = f_shifted[31:0];
+  end
+  logic f_any;  // the triangle covered a pixel
+
+  // ---- Count pipeline -------------------------------------------------------------------
+  logic c_valid;
+
+  assign tri_ready = state == S_WAIT;
+
+  always_comb begin
+    z_raddr = f_base[AW-1:0] + AW'(f_x);
+    b_raddr = addr[AW-1:0];
+    if (state == S_COUNT) z_raddr = addr[AW-1:0];
+  end
+
+  always_ff @(posedge clk) begin
+    done <= 1'b0;
+    z_we <= 1'b0;
+    div_start <= 1'b0;
+    if (rst) begin
+      state <= S_IDLE;
+    end else begin
+      case (state)
+        S_IDLE:
+        if (start) begin
+          addr <= '0;
+          inliers <= '0; rendered <= '0; occluded <= '0; drawn <= '0; fragments <= '0;
+          state <= (pixels == 0) ? S_WAIT : S_CLEAR;
+        end
+        S_CLEAR: begin
+          z_we <= 1'b1;
+          z_waddr <= addr[AW-1:0];
+          z_wdata <= '0;
+          addr <= addr + 1'b1;
+          if (addr + 1'b1 == pixels) state <= S_WAIT;
+        end
+        S_WAIT:
+        if (tri_valid) begin
+          tv <= tri_v;
+          vk <= 2'd0;
+          state <= S_XFORM;
+        end else if (flush) begin
+          addr <= '0;
+          c_valid <= 1'b0;
+          state <= (pixels == 0) ? S_DONE : S_COUNT;
+        end
+        S_XFORM: begin
+          // Vertex vk: near, or the three divisions IZ = 2^36 / Z, U, V = RoundDiv(f X, Z 2^8).
+          vnear[vk] <= xnear;
+          if (xnear) begin
+            vband[vk] <= 1'b0;
+            if (vk == 2'd2) state <= S_SETUP;
+            else vk <= vk + 1'b1;
+          end else begin
+            div_num[0] <= 64'sd68719476736;  // 2^36
+            div_den[0] <= cam[2];
+            // RoundDiv(n, d) = FloorDiv(2 n + d, 2 d), d = Z 2^8.
+            div_num[1] <= 2 * (64'(signed'(cam_fx)) * cam[0]) + (cam[2] <<< 8);
+            div_den[1] <= cam[2] <<< 9;
+            div_num[2] <= 2 * (64'(signed'(cam_fy)) * cam[1]) + (cam[2] <<< 8);
+            div_den[2] <= cam[2] <<< 9;
+            div_start <= 1'b1;
+            state <= S_XDIV;
+          end
+        end
+        S_XDIV: begin
+          if (div_done[0] && div_done[1] && div_done[2]) begin
+            logic signed [63:0] u, v;
+            u = div_quo[1] + 64'(signed'(cam_cx));
+            v = div_quo[2] + 64'(signed'(cam_cy));
+            viz[vk] <= div_quo[0][31:0];
+            vu[vk] <= u;
+            vv[vk] <= v;
+            vband[vk] <= u > -BAND && u < BAND && v > -BAND && v < BAND;
+            if (vk == 2'd2) state <= S_SETUP;
+            else begin
+              vk <= vk + 1'b1;
+              state <= S_XFORM;
+            end
+          end
+        end
+        S_SETUP: begin
+        if (verdict != 4'd0) begin
+          state <= S_WAIT;
+        end else begin
+          for (int k = 0; k < 3; k++) begin
+            f_wrow[k] <= s_w[k];
+            f_w[k] <= s_w[k];
+            f_sx[k] <= s_sx[k];
+            f_sy[k] <= s_sy[k];
+          end
+          f_xlo <= x_lo[10:0];
+          f_x <= x_lo[10:0];
+          f_xhi <= x_hi[10:0];
+          f_y <= y_lo[10:0];
+          f_yhi <= y_hi[10:0];
+          f_base <= 22'(y_lo[10:0]) * 22'(box_w);
+          f_any <= 1'b0;
+          div_num[0] <= 2 * (plane <<< 8) + neg_area;
+          div_num[1] <= 2 * (plane_x <<< 8) + neg_area;
+          div_num[2] <= 2 * (plane_y <<< 8) + neg_area;
+          div_den[0] <= 2 * neg_area;
+          div_den[1] <= 2 * neg_area;
+          div_den[2] <= 2 * neg_area;
+          div_start <= 1'b1;
+          state <= S_SDIV;
+        end
+        end
+        S_SDIV:
+        if (div_done[0] && div_done[1] && div_done[2]) begin
+          f_iz <= div_quo[0];
+          f_izrow <= div_quo[0];
+          f_izsx <= div_quo[1];
+          f_izsy <= div_quo[2];
+          state <= S_FILL;
+        end
+        S_FILL: begin
+          if (f_covered) begin
+            state <= S_FILL_WR;  // z_raddr reads this pixel now
+          end else begin
+            // Next pixel.
+            if (f_x == f_xhi) begin
+              if (f_y == f_yhi) begin
+                if (f_any) drawn <= drawn + 1'b1;
+                state <= S_WAIT;
+              end
+              f_y <= f_y + 1'b1;
+              f_x <= f_xlo;
+              f_base <= f_base + 22'(box_w);
+              for (int k = 0; k < 3; k++) begin
+                f_wrow[k] <= f_wrow[k] + f_sy[k];
+                f_w[k] <= f_wrow[k] + f_sy[k];
+              end
+              f_izrow <= f_izrow + f_izsy;
+              f_iz <= f_izrow + f_izsy;
+            end else begin
+              f_x <= f_x + 1'b1;
+              for (int k = 0; k < 3; k++) f_w[k] <= f_w[k] + f_sx[k];
+              f_iz <= f_iz + f_izsx;
+            end
+          end
+        end
+        S_FILL_WR: begin
+          fragments <= fragments + 1'b1;
+          f_any <= 1'b1;
+          if (f_value > z_rdata) begin
+            z_we <= 1'b1;
+            z_waddr <= f_base[AW-1:0] + AW'(f_x);
+            z_wdata <= f_value;
+          end
+          state <= S_FILL;
+          if (f_x == f_xhi) begin
+            if (f_y == f_yhi) begin
+              drawn <= drawn + 1'b1;
+              state <= S_WAIT;
+            end
+            f_y <= f_y + 1'b1;
+            f_x <= f_xlo;
+            f_base <= f_base + 22'(box_w);
+            for (int k = 0; k < 3; k++) begin
+              f_wrow[k] <= f_wrow[k] + f_sy[k];
+              f_w[k] <= f_wrow[k] + f_sy[k];
+            end
+            f_izrow <= f_izrow + f_izsy;
+            f_iz <= f_izrow + f_izsy;
+          end else begin
+            f_x <= f_x + 1'b1;
+            for (int k = 0; k < 3; k++) f_w[k] <= f_w[k] + f_sx[k];
+            f_iz <= f_iz + f_izsx;
+          end
+        end
+        S_COUNT: begin
+          // Reads pixel addr now; counts the pixel read the clock before.
+          c_valid <= 1'b1;
+          addr <= addr + 1'b1;
+          if (addr + 1'b1 == pixels) state <= S_COUNT_LAST;
+        end
+        S_COUNT_LAST: state <= S_DONE;
+        S_DONE: begin
+          done <= 1'b1;
+          state <= S_IDLE;
+        end
+        default: state <= S_IDLE;
+      endcase
+      // The count of the pixel read the clock before (S_COUNT and S_COUNT_LAST).
+      if (c_valid && (state == S_COUNT || state == S_COUNT_LAST)) begin
+        if (z_rdata != 0) begin
+          rendered <= rendered + 1'b1;
+          if (b_rdata[31:0] <= z_rdata && z_rdata <= b_rdata[63:32]) inliers <= inliers + 1'b1;
+          if (z_rdata < b_rdata[31:0]) occluded <= occluded + 1'b1;
+        end
+        if (state == S_COUNT_LAST) c_valid <= 1'b0;
+      end
+    end
+  end
+endmodule

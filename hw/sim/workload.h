@@ -1,0 +1,100 @@
+// The workload file `mcpose-tools hw-workload` writes (format in docs/hardware.md): per object
+// its box's depth bounds, its mesh in the core's formats and its samples with the C++ model's
+// counts. Read by the testbenches.
+#pragma once
+
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "hw/raster_core.h"
+
+namespace mcpose::hw::sim {
+
+struct WorkloadSample {
+  Pose pose;
+  Counts counts;  // the C++ model's
+};
+
+struct WorkloadObject {
+  int obj_id = 0;
+  std::string name;
+  Camera camera;
+  bool cull = true;
+  std::vector<DepthBounds> bounds;
+  std::vector<ModelVertex> model;
+  std::vector<std::array<uint32_t, 3>> triangles;
+  std::vector<WorkloadSample> samples;
+};
+
+[[noreturn]] inline void WorkloadError(const std::string& path, const std::string& what) {
+  std::fprintf(stderr, "%s: %s\n", path.c_str(), what.c_str());
+  std::exit(2);
+}
+
+// Every object of the file; exits with a message naming the file on a malformed one.
+inline std::vector<WorkloadObject> ReadWorkload(const std::string& path, size_t max_box_words) {
+  std::ifstream in(path);
+  if (!in) WorkloadError(path, "cannot open");
+  std::string line, word, key;
+  std::getline(in, line);
+  if (line.rfind("# mcpose hardware workload v1", 0) != 0)
+    WorkloadError(path, "not a workload file (mcpose-tools hw-workload writes them)");
+  std::vector<WorkloadObject> objects;
+  while (in >> word && word != "end") {
+    if (word != "object") WorkloadError(path, "expected 'object', got '" + word + "'");
+    WorkloadObject o;
+    int scene = 0, image = 0, cull = 1;
+    size_t n = 0;
+    in >> o.obj_id >> o.name >> key >> scene >> image;
+    Camera& c = o.camera;
+    in >> key >> c.fx >> c.fy >> c.cx >> c.cy >> c.z_near >> c.width >> c.height >> cull;
+    o.cull = cull != 0;
+    in >> key >> n;
+    if (!in || key != "bounds" || n != static_cast<size_t>(c.width) * static_cast<size_t>(c.height) ||
+        n > max_box_words)
+      WorkloadError(path, "object " + std::to_string(o.obj_id) + ": bad camera or bounds");
+    o.bounds.resize(n);
+    for (DepthBounds& b : o.bounds) in >> b.lo >> b.hi;
+    in >> key >> n;
+    o.model.resize(n);
+    for (ModelVertex& v : o.model) {
+      int x = 0, y = 0, z = 0;
+      in >> x >> y >> z;
+      v = {static_cast<int16_t>(x), static_cast<int16_t>(y), static_cast<int16_t>(z)};
+    }
+    in >> key >> n;
+    o.triangles.resize(n);
+    for (auto& t : o.triangles) {
+      in >> t[0] >> t[1] >> t[2];
+      if (t[0] >= o.model.size() || t[1] >= o.model.size() || t[2] >= o.model.size())
+        WorkloadError(path, "object " + std::to_string(o.obj_id) + ": triangle with a vertex out of range");
+    }
+    in >> key >> n;
+    if (!in || key != "samples") WorkloadError(path, "object " + std::to_string(o.obj_id) + ": bad mesh");
+    o.samples.resize(n);
+    for (WorkloadSample& s : o.samples) {
+      for (int32_t& r : s.pose.R) in >> r;
+      for (int32_t& t : s.pose.t) in >> t;
+      in >> s.counts.inliers >> s.counts.rendered >> s.counts.occluded;
+    }
+    if (!in) WorkloadError(path, "object " + std::to_string(o.obj_id) + ": samples cut short");
+    objects.push_back(std::move(o));
+  }
+  if (word != "end") WorkloadError(path, "no 'end': the file is cut short");
+  return objects;
+}
+
+// Bits [bit, bit + width) of a Verilated wide port.
+template <typename Wide>
+void SetBits(Wide& w, int bit, int width, uint64_t value) {
+  for (int i = 0; i < width; ++i) {
+    const int b = bit + i;
+    const uint32_t mask = 1u << (b % 32);
+    if ((value >> i) & 1) w[b / 32] |= mask; else w[b / 32] &= ~mask;
+  }
+}
+
+}  // namespace mcpose::hw::sim
