@@ -43,7 +43,7 @@ CI_TSAN_SKIP='^(Estimator\.FlipMovesFindTheLMoreOften|Backends\.EachMatchesItsRe
 configure_and_build() {  # DIR FLAGS DEBUG_LEVEL TEST_FILTER
   local dir="$1" flags="$2" debug="$3" tests="$4"
   cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMCPOSE_BUILD_BENCHMARKS=OFF \
-    -DMCPOSE_BUILD_PYTHON=OFF -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=16 \
+    -DMCPOSE_BUILD_PYTHON=OFF -DMCPOSE_HW_TESTS=OFF -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=16 \
     -DMCPOSE_TEST_FILTER="$tests" \
     -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 $debug -DNDEBUG${EXTRA_DEFINES:+ $EXTRA_DEFINES}" \
     -DCMAKE_CXX_FLAGS="$flags -fno-omit-frame-pointer" \
