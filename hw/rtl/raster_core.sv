@@ -98,18 +98,21 @@ module raster_core #(
   // ---- Vertex transform -----------------------------------------------------------------
   logic [1:0] vk;  // the vertex being transformed
   logic [9*16-1:0] tv;  // the triangle's model vertices
-  logic signed [63:0] cam[3];
+  // X_cam = (R X + 2^15) >> 16 + t: 18 x 16-bit products (one DSP48E2 each), a 36-bit sum.
+  logic signed [33:0] cam[3];
   always_comb begin
     for (int r = 0; r < 3; r++) begin
-      logic signed [63:0] acc;
-      acc = 64'(signed'(pose_r[(3 * r) * 18 +: 18])) * 64'(signed'(tv[(3 * vk + 0) * 16 +: 16])) +
-            64'(signed'(pose_r[(3 * r + 1) * 18 +: 18])) * 64'(signed'(tv[(3 * vk + 1) * 16 +: 16])) +
-            64'(signed'(pose_r[(3 * r + 2) * 18 +: 18])) * 64'(signed'(tv[(3 * vk + 2) * 16 +: 16]));
-      cam[r] = ((acc + 64'sd32768) >>> 16) + 64'(signed'(pose_t[r * 32 +: 32]));
+      logic signed [33:0] p0, p1, p2;
+      logic signed [35:0] acc;
+      p0 = $signed(pose_r[(3 * r) * 18 +: 18]) * $signed(tv[(3 * vk + 0) * 16 +: 16]);
+      p1 = $signed(pose_r[(3 * r + 1) * 18 +: 18]) * $signed(tv[(3 * vk + 1) * 16 +: 16]);
+      p2 = $signed(pose_r[(3 * r + 2) * 18 +: 18]) * $signed(tv[(3 * vk + 2) * 16 +: 16]);
+      acc = 36'(p0) + 36'(p1) + 36'(p2);
+      cam[r] = 34'((acc + 36'sd32768) >>> 16) + 34'($signed(pose_t[r * 32 +: 32]));
     end
   end
   logic xnear;
-  assign xnear = cam[2] < 64'(signed'(cam_z_near));
+  assign xnear = cam[2] < 34'($signed(cam_z_near));
 
   // The three dividers of the projection (IZ, U, V), reused for the IZ plane.
   logic div_start;
@@ -126,69 +129,86 @@ module raster_core #(
   end
 
   // Per-vertex results.
-  logic signed [63:0] vu[3], vv[3];
+  logic signed [16:0] vu[3], vv[3];  // in the guard band: |U|, |V| < 16368
   logic [31:0] viz[3];
   logic [2:0] vnear, vband;
 
   // ---- Setup (combinational over the three vertices) ------------------------------------
-  logic signed [63:0] X[3], Y[3];
-  logic signed [63:0] bw, bh;  // the box size, signed for the comparisons below
-  assign bw = {53'b0, box_w};
-  assign bh = {53'b0, box_h};
+  // Exact for every triangle: the orientation, the bounding box and the verdict (17-bit
+  // coordinates in the guard band). Exact for the triangles it passes (a span of at most 255
+  // pixels): the edge functions (|E| < 2^25) and the IZ plane, so those products are narrow:
+  // 14 x 18 bits for E, 27 x 27 and 18 x 27 bits for the plane.
+  logic signed [16:0] X[3], Y[3];
+  logic signed [12:0] bw, bh;  // the box size, signed for the comparisons below
+  assign bw = {2'b0, box_w};
+  assign bh = {2'b0, box_h};
   always_comb for (int k = 0; k < 3; k++) begin
     X[k] = vu[k];
     Y[k] = vv[k];
   end
-  logic signed [63:0] area, neg_area, min_x, max_x, min_y, max_y;
+  logic signed [35:0] area, neg_area;
+  logic signed [17:0] min_x, max_x, min_y, max_y;
   logic [1:0] ib, ic;
-  logic signed [63:0] x_lo, x_hi, y_lo, y_hi;
+  logic signed [17:0] x_lo, x_hi, y_lo, y_hi;
   logic signed [63:0] s_w[3], s_sx[3], s_sy[3];
   logic signed [63:0] plane, plane_x, plane_y;
   logic [3:0] verdict;  // 0: ready, else culled
   always_comb begin
-    logic signed [63:0] px0, py0, dx, dy, e, iz;
+    logic signed [17:0] px0, py0, dx, dy, ax, ay, bx, by, ox, oy;
+    logic signed [13:0] dx14, dy14;
+    logic signed [35:0] e;
+    logic signed [26:0] e27, iz27;
     logic [1:0] e0[3], e1[3], opp[3];
-    area = (X[1] - X[0]) * (Y[2] - Y[0]) - (Y[1] - Y[0]) * (X[2] - X[0]);
+    ax = 18'(X[1]) - 18'(X[0]);
+    ay = 18'(Y[1]) - 18'(Y[0]);
+    bx = 18'(X[2]) - 18'(X[0]);
+    by = 18'(Y[2]) - 18'(Y[0]);
+    area = 36'(ax) * 36'(by) - 36'(ay) * 36'(bx);
     ib = (area > 0) ? 2'd2 : 2'd1;
     ic = (area > 0) ? 2'd1 : 2'd2;
     neg_area = (area > 0) ? area : -area;  // -area of the oriented triangle
-    min_x = X[0]; max_x = X[0]; min_y = Y[0]; max_y = Y[0];
+    min_x = 18'(X[0]); max_x = 18'(X[0]); min_y = 18'(Y[0]); max_y = 18'(Y[0]);
     for (int k = 1; k < 3; k++) begin
-      if (X[k] < min_x) min_x = X[k];
-      if (X[k] > max_x) max_x = X[k];
-      if (Y[k] < min_y) min_y = Y[k];
-      if (Y[k] > max_y) max_y = Y[k];
+      if (18'(X[k]) < min_x) min_x = 18'(X[k]);
+      if (18'(X[k]) > max_x) max_x = 18'(X[k]);
+      if (18'(Y[k]) < min_y) min_y = 18'(Y[k]);
+      if (18'(Y[k]) > max_y) max_y = 18'(Y[k]);
     end
-    x_lo = (min_x + ONE - 1) >>> 4; if (x_lo < 0) x_lo = 0;
-    x_hi = max_x >>> 4; if (x_hi > bw - 1) x_hi = bw - 1;
-    y_lo = (min_y + ONE - 1) >>> 4; if (y_lo < 0) y_lo = 0;
-    y_hi = max_y >>> 4; if (y_hi > bh - 1) y_hi = bh - 1;
+    x_lo = (min_x + 18'sd15) >>> 4; if (x_lo < 0) x_lo = 0;
+    x_hi = max_x >>> 4; if (x_hi > 18'(bw) - 1) x_hi = 18'(bw) - 1;
+    y_lo = (min_y + 18'sd15) >>> 4; if (y_lo < 0) y_lo = 0;
+    y_hi = max_y >>> 4; if (y_hi > 18'(bh) - 1) y_hi = 18'(bh) - 1;
     if (vnear != 3'b000) verdict = 4'd1;
     else if (vband != 3'b111) verdict = 4'd2;
     else if (area == 0) verdict = 4'd3;
     else if (area > 0 && cull) verdict = 4'd4;
-    else if (max_x < 0 || min_x > (bw - 1) * ONE || max_y < 0 || min_y > (bh - 1) * ONE)
+    else if (max_x < 0 || min_x > (18'(bw) - 1) * 18'sd16 || max_y < 0 || min_y > (18'(bh) - 1) * 18'sd16)
       verdict = 4'd5;
-    else if (max_x - min_x > MAX_SPAN || max_y - min_y > MAX_SPAN) verdict = 4'd6;
+    else if (max_x - min_x > 18'(MAX_SPAN) || max_y - min_y > 18'(MAX_SPAN)) verdict = 4'd6;
     else if (x_lo > x_hi || y_lo > y_hi) verdict = 4'd7;
     else verdict = 4'd0;
     e0[0] = ic; e0[1] = 2'd0; e0[2] = ib;
     e1[0] = ib; e1[1] = ic; e1[2] = 2'd0;
     opp[0] = 2'd0; opp[1] = ib; opp[2] = ic;
-    px0 = x_lo * ONE;
-    py0 = y_lo * ONE;
+    px0 = x_lo <<< 4;
+    py0 = y_lo <<< 4;
     plane = 0; plane_x = 0; plane_y = 0;
     for (int k = 0; k < 3; k++) begin
-      dx = X[e1[k]] - X[e0[k]];
-      dy = Y[e1[k]] - Y[e0[k]];
-      e = dx * (py0 - Y[e0[k]]) - dy * (px0 - X[e0[k]]);
-      s_w[k] = e - (((dy == 0 && dx < 0) || dy > 0) ? 64'sd0 : 64'sd1);
-      s_sx[k] = -dy * ONE;
-      s_sy[k] = dx * ONE;
-      iz = 64'(viz[opp[k]]);
-      plane = plane + e * iz;
-      plane_x = plane_x + s_sx[k] * iz;
-      plane_y = plane_y + s_sy[k] * iz;
+      dx = 18'(X[e1[k]]) - 18'(X[e0[k]]);
+      dy = 18'(Y[e1[k]]) - 18'(Y[e0[k]]);
+      dx14 = dx[13:0];
+      dy14 = dy[13:0];
+      oy = py0 - 18'(Y[e0[k]]);
+      ox = px0 - 18'(X[e0[k]]);
+      e = 36'(dx14) * 36'(oy) - 36'(dy14) * 36'(ox);
+      s_w[k] = 64'(e) - (((dy == 0 && dx < 0) || dy > 0) ? 64'sd0 : 64'sd1);
+      s_sx[k] = 64'(dy14) * (-ONE);
+      s_sy[k] = 64'(dx14) * ONE;
+      e27 = e[26:0];
+      iz27 = {1'b0, viz[opp[k]][25:0]};
+      plane = plane + 64'(e27 * iz27);
+      plane_x = plane_x + 64'(18'(s_sx[k]) * iz27);
+      plane_y = plane_y + 64'(18'(s_sy[k]) * iz27);
     end
   end
 
@@ -260,12 +280,12 @@ module raster_core #(
             else vk <= vk + 1'b1;
           end else begin
             div_num[0] <= 64'sd68719476736;  // 2^36
-            div_den[0] <= cam[2];
-            // RoundDiv(n, d) = FloorDiv(2 n + d, 2 d), d = Z 2^8.
-            div_num[1] <= 2 * (64'(signed'(cam_fx)) * cam[0]) + (cam[2] <<< 8);
-            div_den[1] <= cam[2] <<< 9;
-            div_num[2] <= 2 * (64'(signed'(cam_fy)) * cam[1]) + (cam[2] <<< 8);
-            div_den[2] <= cam[2] <<< 9;
+            div_den[0] <= 64'(cam[2]);
+            // RoundDiv(n, d) = FloorDiv(2 n + d, 2 d), d = Z 2^8: 32 x 34-bit products.
+            div_num[1] <= 2 * 64'($signed(cam_fx) * cam[0]) + (64'(cam[2]) <<< 8);
+            div_den[1] <= 64'(cam[2]) <<< 9;
+            div_num[2] <= 2 * 64'($signed(cam_fy) * cam[1]) + (64'(cam[2]) <<< 8);
+            div_den[2] <= 64'(cam[2]) <<< 9;
             div_start <= 1'b1;
             state <= S_XDIV;
           end
@@ -276,8 +296,8 @@ module raster_core #(
             u = div_quo[1] + 64'(signed'(cam_cx));
             v = div_quo[2] + 64'(signed'(cam_cy));
             viz[vk] <= div_quo[0][31:0];
-            vu[vk] <= u;
-            vv[vk] <= v;
+            vu[vk] <= u[16:0];  // kept only in the guard band
+            vv[vk] <= v[16:0];
             vband[vk] <= u > -BAND && u < BAND && v > -BAND && v < BAND;
             if (vk == 2'd2) state <= S_SETUP;
             else begin
@@ -303,12 +323,12 @@ module raster_core #(
           f_yhi <= y_hi[10:0];
           f_base <= 22'(y_lo[10:0]) * 22'(box_w);
           f_any <= 1'b0;
-          div_num[0] <= 2 * (plane <<< 8) + neg_area;
-          div_num[1] <= 2 * (plane_x <<< 8) + neg_area;
-          div_num[2] <= 2 * (plane_y <<< 8) + neg_area;
-          div_den[0] <= 2 * neg_area;
-          div_den[1] <= 2 * neg_area;
-          div_den[2] <= 2 * neg_area;
+          div_num[0] <= 2 * (plane <<< 8) + 64'(neg_area);
+          div_num[1] <= 2 * (plane_x <<< 8) + 64'(neg_area);
+          div_num[2] <= 2 * (plane_y <<< 8) + 64'(neg_area);
+          div_den[0] <= 2 * 64'(neg_area);
+          div_den[1] <= 2 * 64'(neg_area);
+          div_den[2] <= 2 * 64'(neg_area);
           div_start <= 1'b1;
           state <= S_SDIV;
         end
