@@ -228,6 +228,8 @@ module raster_core #(
     else f_value = f_shifted[31:0];
   end
   logic f_any;  // the triangle covered a pixel
+  logic fill_step;  // this clock leaves the current pixel
+  assign fill_step = (state == S_FILL && !f_covered) || state == S_FILL_WR;
 
   // ---- Count pipeline -------------------------------------------------------------------
   logic c_valid;
@@ -341,32 +343,9 @@ module raster_core #(
           f_izsy <= div_quo[2];
           state <= S_FILL;
         end
-        S_FILL: begin
-          if (f_covered) begin
-            state <= S_FILL_WR;  // z_raddr reads this pixel now
-          end else begin
-            // Next pixel.
-            if (f_x == f_xhi) begin
-              if (f_y == f_yhi) begin
-                if (f_any) drawn <= drawn + 1'b1;
-                state <= S_WAIT;
-              end
-              f_y <= f_y + 1'b1;
-              f_x <= f_xlo;
-              f_base <= f_base + 22'(box_w);
-              for (int k = 0; k < 3; k++) begin
-                f_wrow[k] <= f_wrow[k] + f_sy[k];
-                f_w[k] <= f_wrow[k] + f_sy[k];
-              end
-              f_izrow <= f_izrow + f_izsy;
-              f_iz <= f_izrow + f_izsy;
-            end else begin
-              f_x <= f_x + 1'b1;
-              for (int k = 0; k < 3; k++) f_w[k] <= f_w[k] + f_sx[k];
-              f_iz <= f_iz + f_izsx;
-            end
-          end
-        end
+        // S_FILL steps past an uncovered pixel, or reads a covered one (z_raddr) and goes to
+        // S_FILL_WR, which writes it if nearer and steps (below, fill_step).
+        S_FILL: if (f_covered) state <= S_FILL_WR;
         S_FILL_WR: begin
           fragments <= fragments + 1'b1;
           f_any <= 1'b1;
@@ -374,26 +353,6 @@ module raster_core #(
             z_we <= 1'b1;
             z_waddr <= f_base[AW-1:0] + AW'(f_x);
             z_wdata <= f_value;
-          end
-          state <= S_FILL;
-          if (f_x == f_xhi) begin
-            if (f_y == f_yhi) begin
-              drawn <= drawn + 1'b1;
-              state <= S_WAIT;
-            end
-            f_y <= f_y + 1'b1;
-            f_x <= f_xlo;
-            f_base <= f_base + 22'(box_w);
-            for (int k = 0; k < 3; k++) begin
-              f_wrow[k] <= f_wrow[k] + f_sy[k];
-              f_w[k] <= f_wrow[k] + f_sy[k];
-            end
-            f_izrow <= f_izrow + f_izsy;
-            f_iz <= f_izrow + f_izsy;
-          end else begin
-            f_x <= f_x + 1'b1;
-            for (int k = 0; k < 3; k++) f_w[k] <= f_w[k] + f_sx[k];
-            f_iz <= f_iz + f_izsx;
           end
         end
         S_COUNT: begin
@@ -409,6 +368,29 @@ module raster_core #(
         end
         default: state <= S_IDLE;
       endcase
+      // The next pixel of the triangle's bounding box; after its last, the next triangle.
+      if (fill_step) begin
+        state <= S_FILL;
+        if (f_x == f_xhi) begin
+          if (f_y == f_yhi) begin
+            if (f_any || state == S_FILL_WR) drawn <= drawn + 1'b1;
+            state <= S_WAIT;
+          end
+          f_y <= f_y + 1'b1;
+          f_x <= f_xlo;
+          f_base <= f_base + 22'(box_w);
+          for (int k = 0; k < 3; k++) begin
+            f_wrow[k] <= f_wrow[k] + f_sy[k];
+            f_w[k] <= f_wrow[k] + f_sy[k];
+          end
+          f_izrow <= f_izrow + f_izsy;
+          f_iz <= f_izrow + f_izsy;
+        end else begin
+          f_x <= f_x + 1'b1;
+          for (int k = 0; k < 3; k++) f_w[k] <= f_w[k] + f_sx[k];
+          f_iz <= f_iz + f_izsx;
+        end
+      end
       // The count of the pixel read the clock before (S_COUNT and S_COUNT_LAST).
       if (c_valid && (state == S_COUNT || state == S_COUNT_LAST)) begin
         if (z_rdata != 0) begin
