@@ -137,6 +137,12 @@ StatusOr<std::unique_ptr<BoxScorer>> BoxScorer::Create(Context& context, const I
   return scorer;
 }
 
+void BoxScorer::set_inlier_threshold(float eps_m) {
+  settings_.eps_m = eps_m;
+  if (context_->options().engine.backend == RasterBackend::kHardware)
+    for (score::BoxObservation& o : observed_) score::AddDepthBounds(&o, eps_m);
+}
+
 int64_t BoxScorer::depth_pixels_read() const {
   render::PixelRect u = observed_[0].image_rect;
   for (const score::BoxObservation& b : observed_) {

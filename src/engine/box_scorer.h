@@ -76,7 +76,8 @@ class BoxScorer {
   void Weigh(filter::ParticleSet* particles, EngineCounters* counters, double colour_weight = -1);
   // The inlier threshold Count and Weigh use (the options' weight.eps_m until set).
   float inlier_threshold() const { return settings_.eps_m; }
-  void set_inlier_threshold(float eps_m) { settings_.eps_m = eps_m; }
+  // Sets eps (and, for the hw backend, each box's depth bounds, which hold it).
+  void set_inlier_threshold(float eps_m);
   // The counts of the particles of the last Weigh, in their order.
   std::span<const score::InlierCounts> last_counts() const { return counts_; }
 
