@@ -65,7 +65,6 @@ StatusOr<std::unique_ptr<BoxScorer>> BoxScorer::Create(Context& context, const I
                            " but the depth image is " + std::to_string(depth.width) + "x" + std::to_string(depth.height));
   }
   MCPOSE_RETURN_IF_ERROR(mesh.Validate("mesh"));
-
   if (boxes.empty()) return InvalidArgument("no boxes given");
   for (size_t b = 0; b < boxes.size(); ++b) {
     const std::string where = "box " + std::to_string(b) + " of obj_id " + std::to_string(boxes[0].obj_id) + ": ";

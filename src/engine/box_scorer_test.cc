@@ -58,6 +58,35 @@ TEST(BoxScorer, PreparesEachBoxAsTheOptionsSay) {
   EXPECT_LT(b.depth_pixels_read(), small + large);
 }
 
+// The hw backend's depth bounds hold eps: a new inlier threshold gives the counts of a scorer
+// made with it (the refinement's acceptance counts at its own eps).
+TEST(BoxScorer, HardwareBoundsFollowTheInlierThreshold) {
+  const Scene s = MakeScene();
+  EstimatorOptions o;
+  o.engine.backend = RasterBackend::kHardware;
+  o.engine.DropUnusableFeatures();
+  EstimatorOptions o_fine = o;
+  o_fine.weight.eps_m = 0.004;
+  Context context(o), context_fine(o_fine);
+  const std::vector<Detection> boxes = {Detection{1, 1, 5, 0.9, 100, 80, 80, 60}};
+  auto scorer = BoxScorer::Create(context, s.K, s.depth, s.mesh, boxes);
+  auto fine = BoxScorer::Create(context_fine, s.K, s.depth, s.mesh, boxes);
+  ASSERT_TRUE(scorer.ok() && fine.ok());
+  filter::ParticleSet particles;
+  InitializeSamples(**scorer, o, 1, &particles);
+  std::vector<score::InlierCounts> a(particles.size()), b(particles.size()), c(particles.size());
+  EngineCounters counters;
+  (*scorer)->Count(particles, a, &counters);
+  (*scorer)->set_inlier_threshold(0.004f);
+  (*scorer)->Count(particles, b, &counters);
+  (*fine)->Count(particles, c, &counters);
+  EXPECT_EQ(b, c);
+  int64_t coarse = 0, narrow = 0;
+  for (size_t i = 0; i < a.size(); ++i) coarse += a[i].inliers, narrow += b[i].inliers;
+  EXPECT_LT(narrow, coarse);
+  EXPECT_GT(narrow, 0);
+}
+
 // The weight of the counts, times the box-fit factor of the pose (score/box_fit.h); with the
 // box fit off, the weight of the counts alone. The box is smaller than the blob at the
 // samples' depths, so some samples are scaled down.
