@@ -1,5 +1,5 @@
 // The hardware backend: the paper's raster core in the integer numerics of the RTL (hw/,
-// docs/hardware.md): the pose in Q1.14 and quarter depth units, one exact division per projected
+// docs/hardware.md): the pose in Q1.16 and quarter depth units, one exact division per projected
 // coordinate, the 1/z plane stepped in fixed point, an IZ z-buffer, and the depth distributor's
 // inverse-depth bounds (score::BoxObservation::depth_bounds) in place of |z_r - z_o| < eps.
 // Every triangle is walked (no clusters, no batching); the colour test, which the paper's
@@ -26,9 +26,7 @@ class Hardware final : public Backend {
     // The engine checks both before it scores (options and engine/box_scorer.cc).
     MCPOSE_CHECK(settings.inlier_mode == InlierMode::k1D && obs.depth_bounds.size() == area && box.hw_model &&
                  box.hw_model->size() == box.mesh->vertices_m.size());
-    const render::RasterParams p = score::BoxRasterParams(obs, settings.cull_backfaces);
-    const hw::Camera camera =
-        hw::QuantizeCamera(p.fx, p.fy, p.cx, p.cy, p.box.x0, p.box.y0, p.box.width(), p.box.height(), p.z_near_m);
+    const hw::Camera camera = score::BoxHardwareCamera(obs);
     s->hw_zbuf.resize(area);
     hw::CoreStats core;
     hw::RenderSample(*box.hw_model, box.mesh->triangles, hw::QuantizePose(R, t), camera, settings.cull_backfaces,

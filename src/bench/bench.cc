@@ -331,9 +331,7 @@ StatusOr<int64_t> WriteHardwareWorkload(const Dataset& ds, const BenchOptions& o
     scorer->Count(particles, counts, &ignored);
     // The core's inputs, as the hw backend forms them.
     const score::BoxObservation& obs = scorer->box_observation(0);
-    const render::RasterParams p = score::BoxRasterParams(obs, eo.engine.backface_culling);
-    const hw::Camera c =
-        hw::QuantizeCamera(p.fx, p.fy, p.cx, p.cy, p.box.x0, p.box.y0, p.box.width(), p.box.height(), p.z_near_m);
+    const hw::Camera c = score::BoxHardwareCamera(obs);
     const Mesh& level = scorer->box_mesh(0);
     std::vector<hw::ModelVertex> model;
     if (!hw::QuantizeModel(level.vertices_m, &model)) return Internal("mesh out of the hardware's range");

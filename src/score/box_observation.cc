@@ -107,6 +107,11 @@ void AddDepthBounds(BoxObservation* box, float eps_m) {
   for (size_t i = 0; i < d.size(); ++i) box->depth_bounds[i] = hw::InlierBounds(d[i], eps);
 }
 
+hw::Camera BoxHardwareCamera(const BoxObservation& box) {
+  const render::RasterParams p = BoxRasterParams(box, /*cull_backfaces=*/true);
+  return hw::QuantizeCamera(p.fx, p.fy, p.cx, p.cy, p.box.x0, p.box.y0, p.box.width(), p.box.height(), p.z_near_m);
+}
+
 render::RasterParams BoxRasterParams(const BoxObservation& box, bool cull_backfaces) {
   render::RasterParams params;
   params.fx = static_cast<float>(box.K_grid.fx);

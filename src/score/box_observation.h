@@ -65,5 +65,7 @@ std::vector<uint32_t> ObservedColour(const ColourImage& colour, const DepthImage
 
 // The raster-core parameters of a box: its grid projection and rect.
 render::RasterParams BoxRasterParams(const BoxObservation& box, bool cull_backfaces);
+// The same in the hardware core's formats (hw::QuantizeCamera of BoxRasterParams).
+hw::Camera BoxHardwareCamera(const BoxObservation& box);
 
 }  // namespace mcpose::score
