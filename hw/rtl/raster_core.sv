@@ -1,20 +1,26 @@
-// The paper's raster core: one sample's triangles in, its depth inlier counts out, the z-buffer
-// and the box's depth bounds in block RAM. Bit-exact with the C++ model in src/hw/raster_core.cc
-// (docs/hardware.md gives every signal's width and why it suffices); checked by hw/sim.
+// The paper's raster core: one sample's vertices and triangles in, its depth inlier counts out;
+// the z-buffer, the box's depth bounds and the transformed vertices in block RAM. Bit-exact with
+// the C++ model in src/hw/raster_core.cc (docs/hardware.md gives every signal's width and why it
+// suffices); checked by hw/sim. hw/README.md describes the ports.
 //
 // A sample: pulse `start` with the sample's pose, camera and box held on the inputs until
-// `done`; the core clears the z-buffer (one pixel a clock), then takes triangles (three model
-// vertices each) while `tri_ready`, and `flush` when the last is in; it then counts the box
-// (one pixel a clock) and pulses `done` with the counts. The depth distributor writes the box's
-// bounds through the bnd_* port between samples.
+// `done`. The object vertex distributor then writes items into the core's FIFO while `in_ready`:
+// every model vertex (kind 0), then every triangle as three vertex indices (kind 1), then an end
+// (kind 2). Each vertex is transformed (three multiply-adds) and projected by three dividers at
+// once (IZ, U, V) into the vertex RAM; each triangle reads its three vertices (three clocks), is
+// set up in one clock and, when it is drawn, gets its IZ plane from the same dividers and walks
+// its bounding box a pixel a clock (two for a covered pixel: read, then compare and write). After
+// the end, the core counts the box a pixel a clock, clearing the z-buffer behind it for the next
+// sample, and pulses `done` with the counts. The z-buffer is cleared once after reset.
 //
-// Per triangle: each vertex transformed (three multiply-adds), then projected by three dividers
-// at once (IZ, U, V; 64 clocks each), the setup in one clock, the IZ plane by three dividers
-// at once, then the triangle's bounding box a pixel a clock (two for a covered pixel: read, then
-// compare and write).
+// Widths inside the core: IZ < 2^25 + 2 at every vertex and covered pixel (the near plane is at
+// least 2048 quarter units), so the z-buffer, the vertex RAM and the bounds keep 26 bits; the
+// bounds arrive as the model's 32-bit words and are saturated to 2^26 - 1, which no IZ reaches,
+// so every comparison gives the model's answer.
 module raster_core #(
     parameter int AW = 13,  // z-buffer and bound words: 2^AW box pixels
-    parameter int DEBUG = 0  // 1: a read port on the z-buffer for the testbench
+    parameter int VW = 11,  // vertex RAM: 2^VW model vertices
+    parameter int FD = 5    // the item FIFO: 2^FD items
 ) (
     input logic clk,
     input logic rst,
@@ -39,11 +45,12 @@ module raster_core #(
     input logic            cull,
     input logic            start,
 
-    // Triangles: vertex k's coordinate a at bits [(3 k + a) 16 +: 16], quarter depth units.
-    input  logic          tri_valid,
-    input  logic [9*16-1:0] tri_v,
-    output logic          tri_ready,
-    input  logic          flush,
+    // Items: kind 0 a vertex (coordinate a at bits [16 a +: 16], quarter depth units), kind 1 a
+    // triangle (vertex index k at bits [VW k +: VW]), kind 2 the end of the sample.
+    input  logic        in_valid,
+    input  logic [ 1:0] in_kind,
+    input  logic [47:0] in_data,
+    output logic        in_ready,
 
     output logic        done,
     output logic [31:0] inliers,
@@ -52,61 +59,95 @@ module raster_core #(
     output logic [31:0] drawn,      // triangles that covered a pixel centre
     output logic [31:0] fragments,  // pixel centres covered
 
-    input  logic [AW-1:0] dbg_addr,
-    output logic [  31:0] dbg_z
+    // Each z-buffer word as the count reads it (for the testbench).
+    output logic          cnt_valid,
+    output logic [AW-1:0] cnt_addr,
+    output logic [  25:0] cnt_z
 );
   localparam logic signed [63:0] ONE = 64'sd16;  // a pixel in 1/16 pixel
   localparam logic signed [63:0] BAND = 64'sd16368;  // 1023 pixels
   localparam logic signed [63:0] MAX_SPAN = 64'sd4080;  // 255 pixels
-  localparam logic signed [63:0] MAX_IZ = 64'sd4294967295;
+  localparam logic signed [63:0] MAX_IZ = 64'sd67108863;  // 2^26 - 1
+  localparam logic [1:0] K_VERTEX = 2'd0, K_TRIANGLE = 2'd1;
+
+  function automatic logic [25:0] sat26(input logic [31:0] x);
+    sat26 = (x > 32'd67108863) ? 26'h3ffffff : x[25:0];
+  endfunction
 
   // ---- Memories -------------------------------------------------------------------------
-  logic [31:0] zbuf[2**AW];
-  logic [63:0] bounds[2**AW];
+  logic [25:0] zbuf[2**AW];
+  logic [51:0] bounds[2**AW];
   logic [AW-1:0] z_raddr, z_waddr, b_raddr;
   logic z_we;
-  logic [31:0] z_wdata, z_rdata;
-  logic [63:0] b_rdata;
+  logic [25:0] z_wdata, z_rdata;
+  logic [51:0] b_rdata;
   always_ff @(posedge clk) begin
     if (z_we) zbuf[z_waddr] <= z_wdata;
     z_rdata <= zbuf[z_raddr];
   end
   always_ff @(posedge clk) begin
-    if (bnd_we) bounds[bnd_addr] <= {bnd_hi, bnd_lo};
+    if (bnd_we) bounds[bnd_addr] <= {sat26(bnd_hi), sat26(bnd_lo)};
     b_rdata <= bounds[b_raddr];
   end
-  generate
-    if (DEBUG != 0) begin : g_debug
-      always_ff @(posedge clk) dbg_z <= zbuf[dbg_addr];
-    end else begin : g_no_debug
-      assign dbg_z = '0;
-      logic unused_dbg;
-      assign unused_dbg = ^dbg_addr;
+
+  // The transformed vertices, 62-bit words (Yosys 0.23 reads no array of structs):
+  // {near, in guard band, IZ (26), V (17), U (17)}, U and V box-relative in 1/16 pixel.
+  logic [61:0] vram[2**VW];
+  logic [VW-1:0] vr_raddr, vr_waddr;
+  logic vr_we;
+  logic [61:0] vr_wdata, vr_rdata;
+  always_ff @(posedge clk) begin
+    if (vr_we) vram[vr_waddr] <= vr_wdata;
+    vr_rdata <= vram[vr_raddr];
+  end
+
+  // The item FIFO (distributed RAM, read combinationally at the head).
+  logic [49:0] fifo[2**FD];
+  logic [FD:0] f_wr, f_rd;
+  logic f_empty, f_pop;
+  logic [1:0] h_kind;
+  logic [47:0] h_data;
+  assign f_empty = f_wr == f_rd;
+  assign in_ready = (f_wr - f_rd) != (FD + 1)'(2 ** FD);
+  assign {h_kind, h_data} = fifo[f_rd[FD-1:0]];
+  always_ff @(posedge clk) begin
+    if (rst) f_wr <= '0;
+    else if (in_valid && in_ready) begin
+      fifo[f_wr[FD-1:0]] <= {in_kind, in_data};
+      f_wr <= f_wr + 1'b1;
     end
-  endgenerate
+  end
 
   // ---- State ----------------------------------------------------------------------------
   typedef enum logic [3:0] {
-    S_IDLE, S_CLEAR, S_WAIT, S_XFORM, S_XDIV, S_SETUP, S_SDIV, S_FILL, S_FILL_WR, S_COUNT, S_COUNT_LAST, S_DONE
+    S_IDLE, S_CLEAR, S_NEXT, S_XFORM, S_XDIV, S_R1, S_R2, S_SETUP, S_SDIV, S_FILL, S_FILL_WR,
+    S_COUNT, S_COUNT_LAST, S_DONE
   } state_t;
   state_t state;
 
   logic [21:0] pixels;  // box_w * box_h
   assign pixels = box_w * box_h;
   logic [21:0] addr;  // clear and count walk
+  logic clean;  // the whole z-buffer is zero (after the first clear, every count leaves it so)
+  logic [VW-1:0] vn;  // the next vertex's index
+  logic [VW-1:0] i1, i2;  // the triangle's second and third vertex
+  logic [61:0] tri_vtx[3];  // the triangle's vertices (the third straight from the RAM)
+  logic [61:0] tv0, tv1;
+  assign tri_vtx[0] = tv0;
+  assign tri_vtx[1] = tv1;
+  assign tri_vtx[2] = vr_rdata;
 
   // ---- Vertex transform -----------------------------------------------------------------
-  logic [1:0] vk;  // the vertex being transformed
-  logic [9*16-1:0] tv;  // the triangle's model vertices
+  logic [47:0] tv;  // the vertex's model coordinates
   // X_cam = (R X + 2^15) >> 16 + t: 18 x 16-bit products (one DSP48E2 each), a 36-bit sum.
   logic signed [33:0] cam[3];
   always_comb begin
     for (int r = 0; r < 3; r++) begin
       logic signed [33:0] p0, p1, p2;
       logic signed [35:0] acc;
-      p0 = $signed(pose_r[(3 * r) * 18 +: 18]) * $signed(tv[(3 * vk + 0) * 16 +: 16]);
-      p1 = $signed(pose_r[(3 * r + 1) * 18 +: 18]) * $signed(tv[(3 * vk + 1) * 16 +: 16]);
-      p2 = $signed(pose_r[(3 * r + 2) * 18 +: 18]) * $signed(tv[(3 * vk + 2) * 16 +: 16]);
+      p0 = $signed(pose_r[(3 * r) * 18 +: 18]) * $signed(tv[0 +: 16]);
+      p1 = $signed(pose_r[(3 * r + 1) * 18 +: 18]) * $signed(tv[16 +: 16]);
+      p2 = $signed(pose_r[(3 * r + 2) * 18 +: 18]) * $signed(tv[32 +: 16]);
       acc = 36'(p0) + 36'(p1) + 36'(p2);
       cam[r] = 34'((acc + 36'sd32768) >>> 16) + 34'($signed(pose_t[r * 32 +: 32]));
     end
@@ -114,23 +155,39 @@ module raster_core #(
   logic xnear;
   assign xnear = cam[2] < 34'($signed(cam_z_near));
 
-  // The three dividers of the projection (IZ, U, V), reused for the IZ plane.
-  logic div_start;
+  // The three dividers of the projection (IZ, U, V), reused for the IZ plane (plane_div). Short
+  // paths: IZ < 2^26 always; |U - CX|, |V - CY| < 2^18 for every vertex near the box; the
+  // plane's quotients below 2^32 for the triangles of real meshes. Longer quotients take 64
+  // clocks, exactly. The three end at different clocks: dd keeps those that have.
+  logic div_start, plane_div;
   logic signed [63:0] div_num[3], div_den[3], div_quo[3];
-  logic [2:0] div_done;
+  logic [2:0] div_done, dd;
+  logic all_done;
   for (genvar i = 0; i < 3; i++) begin : g_div
-    sfloordiv #(.W(64)) d (
-        .clk(clk), .rst(rst), .start(div_start), .num(div_num[i]), .den(div_den[i]),
+    sfloordiv #(.W(64), .QA(i == 0 ? 26 : 18), .QB(32)) d (
+        .clk(clk), .rst(rst), .start(div_start), .qsel(plane_div), .num(div_num[i]), .den(div_den[i]),
         /* verilator lint_off PINCONNECTEMPTY */
         .busy(),
         /* verilator lint_on PINCONNECTEMPTY */
         .done(div_done[i]), .quo(div_quo[i])
     );
   end
+  assign all_done = (dd | div_done) == 3'b111;
 
-  // Per-vertex results.
-  logic signed [16:0] vu[3], vv[3];  // in the guard band: |U|, |V| < 16368
-  logic [31:0] viz[3];
+  // The vertex RAM's write: the vertex as its divisions end (or at once when it is near).
+  always_comb begin
+    logic signed [63:0] u, v;
+    u = div_quo[1] + 64'(signed'(cam_cx));
+    v = div_quo[2] + 64'(signed'(cam_cy));
+    vr_waddr = vn;
+    vr_we = (state == S_XFORM && xnear) || (state == S_XDIV && all_done);
+    // U and V are kept only in the guard band.
+    vr_wdata = {state == S_XFORM, state == S_XDIV && u > -BAND && u < BAND && v > -BAND && v < BAND,
+                div_quo[0][25:0], v[16:0], u[16:0]};
+  end
+
+  // Per-vertex results of the triangle being set up.
+  logic [25:0] viz[3];
   logic [2:0] vnear, vband;
 
   // ---- Setup (combinational over the three vertices) ------------------------------------
@@ -143,8 +200,11 @@ module raster_core #(
   assign bw = {2'b0, box_w};
   assign bh = {2'b0, box_h};
   always_comb for (int k = 0; k < 3; k++) begin
-    X[k] = vu[k];
-    Y[k] = vv[k];
+    X[k] = tri_vtx[k][16:0];
+    Y[k] = tri_vtx[k][33:17];
+    viz[k] = tri_vtx[k][59:34];
+    vband[k] = tri_vtx[k][60];
+    vnear[k] = tri_vtx[k][61];
   end
   logic signed [35:0] area, neg_area;
   logic signed [17:0] min_x, max_x, min_y, max_y;
@@ -205,7 +265,7 @@ module raster_core #(
       s_sx[k] = 64'(dy14) * (-ONE);
       s_sy[k] = 64'(dx14) * ONE;
       e27 = e[26:0];
-      iz27 = {1'b0, viz[opp[k]][25:0]};
+      iz27 = {1'b0, viz[opp[k]]};
       plane = plane + 64'(e27 * iz27);
       plane_x = plane_x + 64'(18'(s_sx[k]) * iz27);
       plane_y = plane_y + 64'(18'(s_sy[k]) * iz27);
@@ -218,14 +278,14 @@ module raster_core #(
   logic [10:0] f_x, f_y, f_xlo, f_xhi, f_yhi;
   logic [21:0] f_base;  // f_y * box_w
   logic f_covered;
-  logic [31:0] f_value;
+  logic [25:0] f_value;
   logic signed [63:0] f_shifted;
   assign f_covered = !f_w[0][63] && !f_w[1][63] && !f_w[2][63];
   always_comb begin
     f_shifted = f_iz >>> 8;
-    if (f_shifted < 1) f_value = 32'd1;
-    else if (f_shifted > MAX_IZ) f_value = 32'hffffffff;
-    else f_value = f_shifted[31:0];
+    if (f_shifted < 1) f_value = 26'd1;
+    else if (f_shifted > MAX_IZ) f_value = 26'h3ffffff;
+    else f_value = f_shifted[25:0];
   end
   logic f_any;  // the triangle covered a pixel
   logic fill_step;  // this clock leaves the current pixel
@@ -233,13 +293,18 @@ module raster_core #(
 
   // ---- Count pipeline -------------------------------------------------------------------
   logic c_valid;
+  assign cnt_valid = c_valid && (state == S_COUNT || state == S_COUNT_LAST);
+  assign cnt_z = z_rdata;
 
-  assign tri_ready = state == S_WAIT;
+  assign f_pop = state == S_NEXT && !f_empty;
 
   always_comb begin
     z_raddr = f_base[AW-1:0] + AW'(f_x);
     b_raddr = addr[AW-1:0];
     if (state == S_COUNT) z_raddr = addr[AW-1:0];
+    vr_raddr = h_data[0 +: VW];
+    if (state == S_R1) vr_raddr = i1;
+    if (state == S_R2) vr_raddr = i2;
   end
 
   always_ff @(posedge clk) begin
@@ -248,39 +313,53 @@ module raster_core #(
     div_start <= 1'b0;
     if (rst) begin
       state <= S_IDLE;
+      f_rd <= '0;
+      clean <= 1'b0;
     end else begin
+      if (f_pop) f_rd <= f_rd + 1'b1;
+      dd <= dd | div_done;
       case (state)
         S_IDLE:
         if (start) begin
           addr <= '0;
+          vn <= '0;
           inliers <= '0; rendered <= '0; occluded <= '0; drawn <= '0; fragments <= '0;
-          state <= (pixels == 0) ? S_WAIT : S_CLEAR;
+          state <= clean ? S_NEXT : S_CLEAR;
         end
         S_CLEAR: begin
           z_we <= 1'b1;
           z_waddr <= addr[AW-1:0];
           z_wdata <= '0;
           addr <= addr + 1'b1;
-          if (addr + 1'b1 == pixels) state <= S_WAIT;
+          if (addr == 22'(2 ** AW - 1)) begin
+            clean <= 1'b1;
+            state <= S_NEXT;
+          end
         end
-        S_WAIT:
-        if (tri_valid) begin
-          tv <= tri_v;
-          vk <= 2'd0;
-          state <= S_XFORM;
-        end else if (flush) begin
-          addr <= '0;
-          c_valid <= 1'b0;
-          state <= (pixels == 0) ? S_DONE : S_COUNT;
+        S_NEXT:
+        if (!f_empty) begin
+          if (h_kind == K_VERTEX) begin
+            tv <= h_data;
+            state <= S_XFORM;
+          end else if (h_kind == K_TRIANGLE) begin
+            // The RAM reads vertex 0 now (vr_raddr), then 1 and 2.
+            i1 <= h_data[VW +: VW];
+            i2 <= h_data[2 * VW +: VW];
+            state <= S_R1;
+          end else begin
+            addr <= '0;
+            c_valid <= 1'b0;
+            state <= (pixels == 0) ? S_DONE : S_COUNT;
+          end
         end
         S_XFORM: begin
-          // Vertex vk: near, or the three divisions IZ = 2^36 / Z, U, V = RoundDiv(f X, Z 2^8).
-          vnear[vk] <= xnear;
+          // Near: written as it is (vr_we); else IZ = 2^36 / Z, U, V = RoundDiv(f X, Z 2^8).
           if (xnear) begin
-            vband[vk] <= 1'b0;
-            if (vk == 2'd2) state <= S_SETUP;
-            else vk <= vk + 1'b1;
+            vn <= vn + 1'b1;
+            state <= S_NEXT;
           end else begin
+            plane_div <= 1'b0;
+            dd <= '0;
             div_num[0] <= 64'sd68719476736;  // 2^36
             div_den[0] <= 64'(cam[2]);
             // RoundDiv(n, d) = FloorDiv(2 n + d, 2 d), d = Z 2^8: 32 x 34-bit products.
@@ -292,25 +371,22 @@ module raster_core #(
             state <= S_XDIV;
           end
         end
-        S_XDIV: begin
-          if (div_done[0] && div_done[1] && div_done[2]) begin
-            logic signed [63:0] u, v;
-            u = div_quo[1] + 64'(signed'(cam_cx));
-            v = div_quo[2] + 64'(signed'(cam_cy));
-            viz[vk] <= div_quo[0][31:0];
-            vu[vk] <= u[16:0];  // kept only in the guard band
-            vv[vk] <= v[16:0];
-            vband[vk] <= u > -BAND && u < BAND && v > -BAND && v < BAND;
-            if (vk == 2'd2) state <= S_SETUP;
-            else begin
-              vk <= vk + 1'b1;
-              state <= S_XFORM;
-            end
-          end
+        S_XDIV:
+        if (all_done) begin
+          vn <= vn + 1'b1;
+          state <= S_NEXT;
+        end
+        S_R1: begin
+          tv0 <= vr_rdata;
+          state <= S_R2;
+        end
+        S_R2: begin
+          tv1 <= vr_rdata;
+          state <= S_SETUP;
         end
         S_SETUP: begin
         if (verdict != 4'd0) begin
-          state <= S_WAIT;
+          state <= S_NEXT;
         end else begin
           for (int k = 0; k < 3; k++) begin
             f_wrow[k] <= s_w[k];
@@ -325,6 +401,8 @@ module raster_core #(
           f_yhi <= y_hi[10:0];
           f_base <= 22'(y_lo[10:0]) * 22'(box_w);
           f_any <= 1'b0;
+          plane_div <= 1'b1;
+          dd <= '0;
           div_num[0] <= 2 * (plane <<< 8) + 64'(neg_area);
           div_num[1] <= 2 * (plane_x <<< 8) + 64'(neg_area);
           div_num[2] <= 2 * (plane_y <<< 8) + 64'(neg_area);
@@ -336,7 +414,7 @@ module raster_core #(
         end
         end
         S_SDIV:
-        if (div_done[0] && div_done[1] && div_done[2]) begin
+        if (all_done) begin
           f_iz <= div_quo[0];
           f_izrow <= div_quo[0];
           f_izsx <= div_quo[1];
@@ -356,7 +434,12 @@ module raster_core #(
           end
         end
         S_COUNT: begin
-          // Reads pixel addr now; counts the pixel read the clock before.
+          // Reads pixel addr now, and zeroes it the clock after; counts the pixel read the
+          // clock before.
+          z_we <= 1'b1;
+          z_waddr <= addr[AW-1:0];
+          z_wdata <= '0;
+          cnt_addr <= addr[AW-1:0];
           c_valid <= 1'b1;
           addr <= addr + 1'b1;
           if (addr + 1'b1 == pixels) state <= S_COUNT_LAST;
@@ -368,13 +451,13 @@ module raster_core #(
         end
         default: state <= S_IDLE;
       endcase
-      // The next pixel of the triangle's bounding box; after its last, the next triangle.
+      // The next pixel of the triangle's bounding box; after its last, the next item.
       if (fill_step) begin
         state <= S_FILL;
         if (f_x == f_xhi) begin
           if (f_y == f_yhi) begin
             if (f_any || state == S_FILL_WR) drawn <= drawn + 1'b1;
-            state <= S_WAIT;
+            state <= S_NEXT;
           end
           f_y <= f_y + 1'b1;
           f_x <= f_xlo;
@@ -395,8 +478,8 @@ module raster_core #(
       if (c_valid && (state == S_COUNT || state == S_COUNT_LAST)) begin
         if (z_rdata != 0) begin
           rendered <= rendered + 1'b1;
-          if (b_rdata[31:0] <= z_rdata && z_rdata <= b_rdata[63:32]) inliers <= inliers + 1'b1;
-          if (z_rdata < b_rdata[31:0]) occluded <= occluded + 1'b1;
+          if (b_rdata[25:0] <= z_rdata && z_rdata <= b_rdata[51:26]) inliers <= inliers + 1'b1;
+          if (z_rdata < b_rdata[25:0]) occluded <= occluded + 1'b1;
         end
         if (state == S_COUNT_LAST) c_valid <= 1'b0;
       end

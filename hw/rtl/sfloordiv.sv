@@ -1,11 +1,15 @@
 // floor(num / den) for a signed num and den > 0, on udiv: a negative num divides
-// -num + den - 1, and the quotient is negated. W + 1 cycles from start to done.
+// -num + den - 1, and the quotient is negated. QS + 1 clocks from start to done for a quotient
+// magnitude below 2^QS (QS = qsel ? QB : QA), else W + 1 (udiv).
 module sfloordiv #(
-    parameter int W = 64
+    parameter int W  = 64,
+    parameter int QA = W,
+    parameter int QB = W
 ) (
     input  logic                clk,
     input  logic                rst,
     input  logic                start,
+    input  logic                qsel,
     input  logic signed [W-1:0] num,
     input  logic signed [W-1:0] den,
     output logic                busy,
@@ -18,8 +22,8 @@ module sfloordiv #(
 
   assign unum = num[W-1] ? (-num + den - 1) : num;
 
-  udiv #(.W(W)) div (
-      .clk(clk), .rst(rst), .start(start && !busy), .num(unum), .den(den),
+  udiv #(.W(W), .QA(QA), .QB(QB)) div (
+      .clk(clk), .rst(rst), .start(start && !busy), .qsel(qsel), .num(unum), .den(den),
       .busy(ubusy), .done(udone), .quo(uquo)
   );
 

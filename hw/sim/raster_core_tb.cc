@@ -64,7 +64,22 @@ struct Bench {
     }
     core.bnd_we = 0;
   }
-  // One sample: start, every triangle, flush, done. Returns the clocks from start to done.
+  // One item into the core's FIFO.
+  void Push(int kind, uint64_t data) {
+    while (!core.in_ready) Step();
+    core.in_valid = 1;
+    core.in_kind = static_cast<uint32_t>(kind);
+    core.in_data = data;
+    Step();
+    core.in_valid = 0;
+  }
+  // A clock, keeping the z-buffer words the count reads.
+  void Step() {
+    Tick();
+    if (core.cnt_valid && core.cnt_addr < zbuf.size()) zbuf[core.cnt_addr] = core.cnt_z;
+  }
+  // One sample: start, every vertex, every triangle, the end, done. Returns the clocks from
+  // start to done; zbuf holds the z-buffer as the count read it.
   uint64_t Run(const Pose& pose, const Camera& camera, bool cull, const std::vector<ModelVertex>& model,
                const Triangles& triangles) {
     for (int i = 0; i < 9; ++i)
@@ -78,40 +93,27 @@ struct Bench {
     core.box_w = static_cast<uint32_t>(camera.width);
     core.box_h = static_cast<uint32_t>(camera.height);
     core.cull = cull;
+    zbuf.assign(static_cast<size_t>(camera.width) * static_cast<size_t>(camera.height), 0xffffffffu);
     const uint64_t start = cycles;
     core.start = 1;
-    Tick();
+    Step();
     core.start = 0;
-    for (const auto& tri : triangles) {
-      while (!core.tri_ready) Tick();
-      for (int k = 0; k < 3; ++k)
-        for (int a = 0; a < 3; ++a)
-          SetBits(core.tri_v, 16 * (3 * k + a), 16,
-                  static_cast<uint16_t>(model[tri[static_cast<size_t>(k)]][static_cast<size_t>(a)]));
-      core.tri_valid = 1;
-      Tick();
-      core.tri_valid = 0;
-    }
-    while (!core.tri_ready) Tick();
-    core.flush = 1;
-    Tick();
-    core.flush = 0;
-    while (!core.done) Tick();
+    for (const ModelVertex& v : model) Push(mcpose::hw::sim::kItemVertex, mcpose::hw::sim::VertexItem(v));
+    for (const auto& tri : triangles) Push(mcpose::hw::sim::kItemTriangle, mcpose::hw::sim::TriangleItem(tri));
+    Push(mcpose::hw::sim::kItemEnd, 0);
+    while (!core.done) Step();
     return cycles - start;
   }
   Counts counts() const {
     return {static_cast<int32_t>(core.inliers), static_cast<int32_t>(core.rendered), static_cast<int32_t>(core.occluded)};
   }
-  // Words of the z-buffer that differ from `zbuf`.
-  int ZbufMismatches(const std::vector<uint32_t>& zbuf) {
+  // Words of the z-buffer the count read that differ from `want`.
+  int ZbufMismatches(const std::vector<uint32_t>& want) const {
     int bad = 0;
-    for (size_t i = 0; i < zbuf.size(); ++i) {
-      core.dbg_addr = static_cast<uint32_t>(i);
-      Tick();
-      bad += core.dbg_z != zbuf[i];
-    }
+    for (size_t i = 0; i < want.size(); ++i) bad += zbuf[i] != want[i];
     return bad;
   }
+  std::vector<uint32_t> zbuf;
 };
 
 uint64_t Median(std::vector<uint64_t> v) {

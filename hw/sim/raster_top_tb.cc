@@ -1,7 +1,8 @@
 // Verilator testbench of hw/rtl/raster_top.sv (20 raster cores in lockstep, the depth and object
-// vertex distributors) on the real workload `mcpose-tools hw-workload` writes: each object's
-// bounds written once to every core, its samples in batches of 20, every core's counts compared
-// with the C++ model's. Prints per object the clocks of the whole iteration (bounds, then every
+// vertex distributors, the weight merger) on the real workload `mcpose-tools hw-workload`
+// writes: each object's bounds written once to every core, its samples in batches of 20, every
+// core's counts compared with the C++ model's and every weight (and their sum) with
+// hw::MergedWeight of the model's counts. Prints per object the clocks of the whole iteration (bounds, then every
 // batch) and its time at 200 MHz; exits 1 on a mismatch.
 // Usage: raster_top_tb FILE
 #include <algorithm>
@@ -65,6 +66,17 @@ int main(int argc, char** argv) {
       t.Tick();
     }
     t.top.bnd_we = 0;
+    int32_t observed = 0;  // N_b: the words with an observed depth
+    for (const auto& b : o.bounds) observed += b.lo != 0;
+    t.top.coef_a = o.weight.a;
+    t.top.coef_b = o.weight.b;
+    t.top.coef_c = o.weight.c;
+    t.top.score = o.weight.score;
+    t.top.occlusion_aware = o.weight.occlusion_aware;
+    t.top.sum_clear = 1;
+    t.Tick();
+    t.top.sum_clear = 0;
+    uint64_t want_sum = 0;
     t.top.cam_fx = static_cast<uint32_t>(o.camera.fx);
     t.top.cam_fy = static_cast<uint32_t>(o.camera.fy);
     t.top.cam_cx = static_cast<uint32_t>(o.camera.cx);
@@ -91,31 +103,41 @@ int main(int argc, char** argv) {
       t.Tick();
       t.top.start = 0;
       // The object vertex distributor: the mesh once, to every core of the batch.
-      for (const auto& tri : o.triangles) {
-        while (!t.top.tri_ready) t.Tick();
-        for (int k = 0; k < 3; ++k)
-          for (int a = 0; a < 3; ++a)
-            SetBits(t.top.tri_v, 16 * (3 * k + a), 16, static_cast<uint16_t>(o.model[tri[static_cast<size_t>(k)]][static_cast<size_t>(a)]));
-        t.top.tri_valid = 1;
+      auto push = [&](int kind, uint64_t data) {
+        while (!t.top.in_ready) t.Tick();
+        t.top.in_valid = 1;
+        t.top.in_kind = static_cast<uint32_t>(kind);
+        t.top.in_data = data;
         t.Tick();
-        t.top.tri_valid = 0;
+        t.top.in_valid = 0;
+      };
+      for (const auto& v : o.model) push(mcpose::hw::sim::kItemVertex, mcpose::hw::sim::VertexItem(v));
+      for (const auto& tri : o.triangles) push(mcpose::hw::sim::kItemTriangle, mcpose::hw::sim::TriangleItem(tri));
+      push(mcpose::hw::sim::kItemEnd, 0);
+      std::vector<int64_t> weights(static_cast<size_t>(kCores), -1);
+      while (!t.top.done) {
+        t.Tick();
+        if (t.top.w_valid && t.top.w_core < static_cast<uint32_t>(kCores)) weights[t.top.w_core] = t.top.w_data;
       }
-      while (!t.top.tri_ready) t.Tick();
-      t.top.flush = 1;
-      t.Tick();
-      t.top.flush = 0;
-      while (!t.top.done) t.Tick();
       batch_cycles.push_back(t.cycles - batch_start);
       for (int c = 0; c < n; ++c) {
         const Counts got{static_cast<int32_t>(Word(t.top.inliers, c)), static_cast<int32_t>(Word(t.top.rendered, c)),
                          static_cast<int32_t>(Word(t.top.occluded, c))};
         const Counts& want = o.samples[first + static_cast<size_t>(c)].counts;
+        const uint32_t want_weight = mcpose::hw::MergedWeight(want, observed, o.weight);
+        want_sum += want_weight;
+        if (weights[static_cast<size_t>(c)] != int64_t{want_weight} && ++object_mismatches <= 3)
+          std::printf("%s sample %zu: rtl weight %lld, model %u\n", o.name.c_str(), first + static_cast<size_t>(c),
+                      static_cast<long long>(weights[static_cast<size_t>(c)]), want_weight);
         if (!(got == want) && ++object_mismatches <= 3)
           std::printf("%s sample %zu: rtl N %d N_r %d occluded %d, model N %d N_r %d occluded %d\n", o.name.c_str(),
                       first + static_cast<size_t>(c), got.inliers, got.rendered, got.occluded, want.inliers,
                       want.rendered, want.occluded);
       }
     }
+    if (t.top.w_sum != want_sum && ++object_mismatches <= 3)
+      std::printf("%s: rtl weight sum %llu, model %llu\n", o.name.c_str(), static_cast<unsigned long long>(t.top.w_sum),
+                  static_cast<unsigned long long>(want_sum));
     const uint64_t iteration = t.cycles - start;
     std::sort(batch_cycles.begin(), batch_cycles.end());
     std::printf("%-22s %4zu samples in %zu batches of %d cores, %d mismatches; clocks per batch (median %llu, max "

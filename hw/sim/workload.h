@@ -10,8 +10,21 @@
 #include <vector>
 
 #include "hw/raster_core.h"
+#include "hw/weight_merger.h"
 
 namespace mcpose::hw::sim {
+
+// The core's items (hw/rtl/raster_core.sv) and its vertex RAM (VW = 11).
+inline constexpr int kItemVertex = 0, kItemTriangle = 1, kItemEnd = 2;
+inline constexpr int kVertexIndexBits = 11;
+inline constexpr size_t kMaxVertices = size_t{1} << kVertexIndexBits;
+inline uint64_t VertexItem(const ModelVertex& v) {
+  return uint64_t{static_cast<uint16_t>(v[0])} | uint64_t{static_cast<uint16_t>(v[1])} << 16 |
+         uint64_t{static_cast<uint16_t>(v[2])} << 32;
+}
+inline uint64_t TriangleItem(const std::array<uint32_t, 3>& t) {
+  return uint64_t{t[0]} | uint64_t{t[1]} << kVertexIndexBits | uint64_t{t[2]} << (2 * kVertexIndexBits);
+}
 
 struct WorkloadSample {
   Pose pose;
@@ -23,6 +36,7 @@ struct WorkloadObject {
   std::string name;
   Camera camera;
   bool cull = true;
+  WeightCoefficients weight;
   std::vector<DepthBounds> bounds;
   std::vector<ModelVertex> model;
   std::vector<std::array<uint32_t, 3>> triangles;
@@ -40,7 +54,7 @@ inline std::vector<WorkloadObject> ReadWorkload(const std::string& path, size_t 
   if (!in) WorkloadError(path, "cannot open");
   std::string line, word, key;
   std::getline(in, line);
-  if (line.rfind("# mcpose hardware workload v1", 0) != 0)
+  if (line.rfind("# mcpose hardware workload v2", 0) != 0)
     WorkloadError(path, "not a workload file (mcpose-tools hw-workload writes them)");
   std::vector<WorkloadObject> objects;
   while (in >> word && word != "end") {
@@ -52,6 +66,10 @@ inline std::vector<WorkloadObject> ReadWorkload(const std::string& path, size_t 
     Camera& c = o.camera;
     in >> key >> c.fx >> c.fy >> c.cx >> c.cy >> c.z_near >> c.width >> c.height >> cull;
     o.cull = cull != 0;
+    int occlusion_aware = 0;
+    in >> key >> o.weight.a >> o.weight.b >> o.weight.c >> o.weight.score >> occlusion_aware;
+    if (!in || key != "weight") WorkloadError(path, "object " + std::to_string(o.obj_id) + ": bad weight line");
+    o.weight.occlusion_aware = occlusion_aware != 0;
     in >> key >> n;
     if (!in || key != "bounds" || n != static_cast<size_t>(c.width) * static_cast<size_t>(c.height) ||
         n > max_box_words)
@@ -59,6 +77,9 @@ inline std::vector<WorkloadObject> ReadWorkload(const std::string& path, size_t 
     o.bounds.resize(n);
     for (DepthBounds& b : o.bounds) in >> b.lo >> b.hi;
     in >> key >> n;
+    if (!in || n > kMaxVertices)
+      WorkloadError(path, "object " + std::to_string(o.obj_id) + ": more vertices than the core's vertex RAM (" +
+                              std::to_string(kMaxVertices) + ")");
     o.model.resize(n);
     for (ModelVertex& v : o.model) {
       int x = 0, y = 0, z = 0;

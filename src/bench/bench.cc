@@ -17,6 +17,7 @@
 #include "engine/initialize.h"
 #include "mcpose/run.h"
 #include "mcpose/eval.h"
+#include "hw/weight_merger.h"
 #include "score/inlier.h"
 
 namespace mcpose::bench {
@@ -315,7 +316,7 @@ StatusOr<int64_t> WriteHardwareWorkload(const Dataset& ds, const BenchOptions& o
   if (!eo.IsValid(&error)) return InvalidArgument("invalid options: " + error);
   engine::Context context(eo);
   int64_t written = 0;
-  out << "# mcpose hardware workload v1: per object its box's depth bounds, its mesh and its samples\n";
+  out << "# mcpose hardware workload v2: per object its box's depth bounds, weight, mesh and samples\n";
   for (int obj_id : ids) {
     Frame frame;
     Detection box;
@@ -339,6 +340,9 @@ StatusOr<int64_t> WriteHardwareWorkload(const Dataset& ds, const BenchOptions& o
         << frame.key.image_id << '\n';
     out << "camera " << c.fx << ' ' << c.fy << ' ' << c.cx << ' ' << c.cy << ' ' << c.z_near << ' ' << c.width << ' '
         << c.height << ' ' << (eo.engine.backface_culling ? 1 : 0) << '\n';
+    const hw::WeightCoefficients w =
+        hw::QuantizeWeight(eo.weight.a, eo.weight.b, eo.weight.c, box.score, eo.weight.occlusion_aware);
+    out << "weight " << w.a << ' ' << w.b << ' ' << w.c << ' ' << w.score << ' ' << (w.occlusion_aware ? 1 : 0) << '\n';
     out << "bounds " << obs.depth_bounds.size() << '\n';
     for (const hw::DepthBounds& b : obs.depth_bounds) out << b.lo << ' ' << b.hi << '\n';
     out << "vertices " << model.size() << '\n';
