@@ -439,6 +439,27 @@ TEST_P(CliThreads, SameSeedSameCsvAtAnyThreadCount) {
   EXPECT_EQ(runs[0], runs[2]);
 }
 
+// --engine rtl scores every sample through the Verilated RTL of the raster core: on a real frame
+// its rows equal --engine hw's, byte for byte but for the time column (a small budget: the
+// simulation takes milliseconds a sample).
+TEST(Cli, RtlEngineGivesTheHwEnginesCsv) {
+  if (!RtlBackendAvailable()) GTEST_SKIP() << "built without Verilator: no --engine rtl";
+  const fs::path dir = testing::TempDir("rtl");
+  WriteText(dir / "dets.json", Scene49Detections().dump());
+  std::vector<std::vector<std::string>> runs;
+  for (const std::string engine : {"hw", "rtl"}) {
+    const fs::path out = dir / (engine + ".csv");
+    const CliResult r = RunCli("estimate --dataset " + testing::YcbvDir() + " --detections " + (dir / "dets.json").string() +
+                                   " --out " + out.string() + " --samples 24 --iterations 2 --no-resolve-twins" +
+                                   " --refine-iterations 2 --seed 3 -q --threads 2 --engine " + engine,
+                               dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    runs.push_back(RowsWithoutTime(out));
+  }
+  ASSERT_EQ(runs[0].size(), 5u);  // header + a row per instance: classes 3, 6 and two of 9
+  EXPECT_EQ(runs[1], runs[0]);
+}
+
 // Each (image, class) draws from random streams of its own, so a subset of the boxes gives the
 // whole run's rows for its classes (scripts/accuracy_seeds.sh DETECTIONS= relies on this).
 TEST(Cli, EachClassAloneGivesTheWholeRunsRow) {

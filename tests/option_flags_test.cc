@@ -146,7 +146,7 @@ TEST(OptionFlags, JsonOptionsAreCheckedAsTheCommandLineChecksThem) {
   EXPECT_NE(message(R"({"samples": 0})").find("samples must lie in [1, 1000000], got 0"), std::string::npos);
   EXPECT_NE(message(R"({"samples": 1.5})").find("samples must be a whole number"), std::string::npos);
   EXPECT_NE(message(R"({"refine": {"tukey": 0.008}})").find("unknown key 'refine.tukey'"), std::string::npos);
-  EXPECT_NE(message(R"({"engine": {"backend": "gpu"}})").find("scalar, fixed, simd, float-simd or hw"), std::string::npos);
+  EXPECT_NE(message(R"({"engine": {"backend": "gpu"}})").find("scalar, fixed, simd, float-simd, hw or rtl"), std::string::npos);
   EXPECT_NE(message(R"({"weight": {"eps_m": -1}})").find("weight.eps_m must be finite and > 0 m"), std::string::npos);
   EXPECT_NE(message(R"({"appearance": {"enabled": "yes"}})").find("true or false"), std::string::npos);
   EXPECT_NE(message(R"({"seed": -1})").find("seed must be a whole number >= 0"), std::string::npos);

@@ -20,6 +20,7 @@
 
 #include "Vraster_core.h"
 #include "hw/raster_core.h"
+#include "hw/rtl_driver.h"
 #include "workload.h"
 #include "verilated.h"
 
@@ -32,80 +33,21 @@ using mcpose::hw::DepthBounds;
 using mcpose::hw::ModelVertex;
 using mcpose::hw::Pose;
 using Triangles = std::vector<std::array<uint32_t, 3>>;
-using mcpose::hw::sim::SetBits;
 
 constexpr int kBoxWords = 1 << 13;  // the core's AW
 
+constexpr int kVertexIndexBits = 11;  // the core's VW
+
+// The core and its driver (hw/rtl_driver.h), keeping the z-buffer each sample's count reads.
 struct Bench {
   Vraster_core core;
-  uint64_t cycles = 0;
+  mcpose::hw::rtl::CoreDriver<Vraster_core> driver{&core, kVertexIndexBits};
+  std::vector<uint32_t> zbuf;
 
-  Bench() {
-    core.rst = 1;
-    Tick();
-    Tick();
-    core.rst = 0;
-  }
-  void Tick() {
-    core.clk = 0;
-    core.eval();
-    core.clk = 1;
-    core.eval();
-    ++cycles;
-  }
-  // The depth distributor's writes of one box.
-  void LoadBounds(const std::vector<DepthBounds>& bounds) {
-    for (size_t i = 0; i < bounds.size(); ++i) {
-      core.bnd_we = 1;
-      core.bnd_addr = static_cast<uint32_t>(i);
-      core.bnd_lo = bounds[i].lo;
-      core.bnd_hi = bounds[i].hi;
-      Tick();
-    }
-    core.bnd_we = 0;
-  }
-  // One item into the core's FIFO.
-  void Push(int kind, uint64_t data) {
-    while (!core.in_ready) Step();
-    core.in_valid = 1;
-    core.in_kind = static_cast<uint32_t>(kind);
-    core.in_data = data;
-    Step();
-    core.in_valid = 0;
-  }
-  // A clock, keeping the z-buffer words the count reads.
-  void Step() {
-    Tick();
-    if (core.cnt_valid && core.cnt_addr < zbuf.size()) zbuf[core.cnt_addr] = core.cnt_z;
-  }
-  // One sample: start, every vertex, every triangle, the end, done. Returns the clocks from
-  // start to done; zbuf holds the z-buffer as the count read it.
   uint64_t Run(const Pose& pose, const Camera& camera, bool cull, const std::vector<ModelVertex>& model,
                const Triangles& triangles) {
-    for (int i = 0; i < 9; ++i)
-      SetBits(core.pose_r, 18 * i, 18, static_cast<uint64_t>(static_cast<int64_t>(pose.R[static_cast<size_t>(i)])));
-    for (int i = 0; i < 3; ++i) SetBits(core.pose_t, 32 * i, 32, static_cast<uint32_t>(pose.t[static_cast<size_t>(i)]));
-    core.cam_fx = static_cast<uint32_t>(camera.fx);
-    core.cam_fy = static_cast<uint32_t>(camera.fy);
-    core.cam_cx = static_cast<uint32_t>(camera.cx);
-    core.cam_cy = static_cast<uint32_t>(camera.cy);
-    core.cam_z_near = static_cast<uint32_t>(camera.z_near);
-    core.box_w = static_cast<uint32_t>(camera.width);
-    core.box_h = static_cast<uint32_t>(camera.height);
-    core.cull = cull;
     zbuf.assign(static_cast<size_t>(camera.width) * static_cast<size_t>(camera.height), 0xffffffffu);
-    const uint64_t start = cycles;
-    core.start = 1;
-    Step();
-    core.start = 0;
-    for (const ModelVertex& v : model) Push(mcpose::hw::sim::kItemVertex, mcpose::hw::sim::VertexItem(v));
-    for (const auto& tri : triangles) Push(mcpose::hw::sim::kItemTriangle, mcpose::hw::sim::TriangleItem(tri));
-    Push(mcpose::hw::sim::kItemEnd, 0);
-    while (!core.done) Step();
-    return cycles - start;
-  }
-  Counts counts() const {
-    return {static_cast<int32_t>(core.inliers), static_cast<int32_t>(core.rendered), static_cast<int32_t>(core.occluded)};
+    return driver.Run(pose, camera, cull, model, triangles, zbuf);
   }
   // Words of the z-buffer the count read that differ from `want`.
   int ZbufMismatches(const std::vector<uint32_t>& want) const {
@@ -113,7 +55,6 @@ struct Bench {
     for (size_t i = 0; i < want.size(); ++i) bad += zbuf[i] != want[i];
     return bad;
   }
-  std::vector<uint32_t> zbuf;
 };
 
 uint64_t Median(std::vector<uint64_t> v) {
@@ -176,19 +117,19 @@ int RandomSamples(int samples, unsigned seed) {
     mcpose::hw::RenderSample(model, triangles, pose, camera, cull, &vertices, zbuf, &stats);
     const Counts want = mcpose::hw::CountBox(zbuf, bounds);
 
-    b.LoadBounds(bounds);
+    b.driver.LoadBounds(bounds);
     sample_cycles.push_back(b.Run(pose, camera, cull, model, triangles));
     triangles_total += stats.triangles;
     drawn_total += stats.drawn;
-    const Counts got = b.counts();
-    const bool bad = !(got == want) || b.core.drawn != static_cast<uint32_t>(stats.drawn) ||
-                     b.core.fragments != static_cast<uint32_t>(stats.fragments);
+    const Counts got = b.driver.counts();
+    const bool bad = !(got == want) || b.driver.drawn() != stats.drawn || b.driver.fragments() != stats.fragments;
     const int bad_words = b.ZbufMismatches(zbuf);
     if (bad || bad_words) {
       if (++mismatches <= 5)
         std::printf("sample %d: rtl N %d N_r %d occluded %d drawn %u fragments %u, model N %d N_r %d occluded %d "
                     "drawn %lld fragments %lld, %d z-buffer words differ\n",
-                    s, got.inliers, got.rendered, got.occluded, b.core.drawn, b.core.fragments, want.inliers,
+                    s, got.inliers, got.rendered, got.occluded, static_cast<unsigned>(b.driver.drawn()),
+                    static_cast<unsigned>(b.driver.fragments()), want.inliers,
                     want.rendered, want.occluded, static_cast<long long>(stats.drawn),
                     static_cast<long long>(stats.fragments), bad_words);
     }
@@ -208,14 +149,14 @@ int Workload(const std::string& path) {
   constexpr int kCores = 20;
   constexpr double kClockHz = 200e6;
   for (const auto& o : objects) {
-    b.LoadBounds(o.bounds);
+    b.driver.LoadBounds(o.bounds);
     std::vector<uint64_t> cycles;
     std::vector<uint64_t> core_cycles(kCores, 0);
     int object_mismatches = 0;
     for (size_t s = 0; s < o.samples.size(); ++s) {
       cycles.push_back(b.Run(o.samples[s].pose, o.camera, o.cull, o.model, o.triangles));
       core_cycles[s % kCores] += cycles.back();
-      const Counts got = b.counts(), want = o.samples[s].counts;
+      const Counts got = b.driver.counts(), want = o.samples[s].counts;
       if (!(got == want) && ++object_mismatches <= 3)
         std::printf("%s sample %zu: rtl N %d N_r %d occluded %d, model N %d N_r %d occluded %d\n", o.name.c_str(), s,
                     got.inliers, got.rendered, got.occluded, want.inliers, want.rendered, want.occluded);

@@ -13,12 +13,13 @@
 
 #include "Vraster_top.h"
 #include "verilated.h"
+#include "hw/rtl_driver.h"
 #include "workload.h"
 
 namespace {
 
 using mcpose::hw::Counts;
-using mcpose::hw::sim::SetBits;
+using mcpose::hw::rtl::SetBits;
 
 constexpr int kCores = 20;  // the top's CORES
 constexpr double kClockHz = 200e6;
@@ -111,9 +112,9 @@ int main(int argc, char** argv) {
         t.Tick();
         t.top.in_valid = 0;
       };
-      for (const auto& v : o.model) push(mcpose::hw::sim::kItemVertex, mcpose::hw::sim::VertexItem(v));
-      for (const auto& tri : o.triangles) push(mcpose::hw::sim::kItemTriangle, mcpose::hw::sim::TriangleItem(tri));
-      push(mcpose::hw::sim::kItemEnd, 0);
+      for (const auto& v : o.model) push(mcpose::hw::rtl::kItemVertex, mcpose::hw::rtl::VertexItem(v));
+      for (const auto& tri : o.triangles) push(mcpose::hw::rtl::kItemTriangle, mcpose::hw::rtl::TriangleItem(tri, mcpose::hw::sim::kVertexIndexBits));
+      push(mcpose::hw::rtl::kItemEnd, 0);
       std::vector<int64_t> weights(static_cast<size_t>(kCores), -1);
       while (!t.top.done) {
         t.Tick();

@@ -14,17 +14,9 @@
 
 namespace mcpose::hw::sim {
 
-// The core's items (hw/rtl/raster_core.sv) and its vertex RAM (VW = 11).
-inline constexpr int kItemVertex = 0, kItemTriangle = 1, kItemEnd = 2;
+// The core's vertex RAM as synthesized (VW = 11).
 inline constexpr int kVertexIndexBits = 11;
 inline constexpr size_t kMaxVertices = size_t{1} << kVertexIndexBits;
-inline uint64_t VertexItem(const ModelVertex& v) {
-  return uint64_t{static_cast<uint16_t>(v[0])} | uint64_t{static_cast<uint16_t>(v[1])} << 16 |
-         uint64_t{static_cast<uint16_t>(v[2])} << 32;
-}
-inline uint64_t TriangleItem(const std::array<uint32_t, 3>& t) {
-  return uint64_t{t[0]} | uint64_t{t[1]} << kVertexIndexBits | uint64_t{t[2]} << (2 * kVertexIndexBits);
-}
 
 struct WorkloadSample {
   Pose pose;
@@ -106,16 +98,6 @@ inline std::vector<WorkloadObject> ReadWorkload(const std::string& path, size_t 
   }
   if (word != "end") WorkloadError(path, "no 'end': the file is cut short");
   return objects;
-}
-
-// Bits [bit, bit + width) of a Verilated wide port.
-template <typename Wide>
-void SetBits(Wide& w, int bit, int width, uint64_t value) {
-  for (int i = 0; i < width; ++i) {
-    const int b = bit + i;
-    const uint32_t mask = 1u << (b % 32);
-    if ((value >> i) & 1) w[b / 32] |= mask; else w[b / 32] &= ~mask;
-  }
 }
 
 }  // namespace mcpose::hw::sim

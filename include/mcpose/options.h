@@ -41,15 +41,22 @@ enum class RasterBackend {
   kFloatSimd,   // kScalar a Highway vector at a time; bit-identical to kScalar
   kHardware,    // the paper's raster core in the hardware's integer numerics (docs/hardware.md):
                 // 1-D inliers only, every triangle walked
+  kRtl,         // that core's RTL simulated by Verilator: kHardware's counts, some 150 times
+                // slower; only in a build where Verilator was found (RtlBackendAvailable)
 };
 
-// "scalar" / "fixed" / "simd" / "float-simd" / "hw" (RasterBackendNames() in mcpose/option_table.h);
+// "scalar" / "fixed" / "simd" / "float-simd" / "hw" / "rtl" (RasterBackendNames() in mcpose/option_table.h);
 // false for an unknown name.
 bool ParseRasterBackend(const std::string& name, RasterBackend* backend);
 const char* RasterBackendName(RasterBackend backend);
 // kFixedPoint and kSimd: the backends that snap vertices and so can batch their setup and
 // drop culling clusters.
 bool IsFixedPoint(RasterBackend backend);
+// kHardware and kRtl: the backends in the hardware's integer numerics (the depth distributor's
+// bounds, the model in the core's formats).
+bool IsHardwareNumerics(RasterBackend backend);
+// Whether this build has kRtl (Verilator was found when it was configured).
+bool RtlBackendAvailable();
 
 // Step 1: N samples over the boxes in proportion to score. Rotation: uniform on SO(3).
 // Translation: on the ray through the box centre, jittered by sigma_t_m, at one of two depths:

@@ -64,4 +64,15 @@ score::ColourStats CountColour(const BoxTarget& target, const float* zbuf, const
   return simd ? score::CountColourSimd(c, *target.colour) : score::CountColour(c, *target.colour);
 }
 
+void CountHardwareColour(const BoxTarget& box, std::span<const uint32_t> hw_zbuf, const Eigen::Matrix3f& R,
+                         const Eigen::Vector3f& t, const SampleSettings& settings, Scratch* scratch,
+                         score::InlierCounts* counts) {
+  const score::BoxObservation& obs = *box.observed;
+  const size_t area = hw_zbuf.size();
+  scratch->zbuf.resize(std::max(scratch->zbuf.size(), area + render::kSimdPadFloats));
+  for (size_t i = 0; i < area; ++i) scratch->zbuf[i] = hw::DepthMetres(hw_zbuf[i]);
+  const render::PixelRect whole{0, 0, obs.rect.width(), obs.rect.height()};
+  counts->colour = CountColour(box, scratch->zbuf.data(), whole, R, t, settings, /*simd=*/false);
+}
+
 }  // namespace mcpose::backends::steps

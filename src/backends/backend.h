@@ -5,6 +5,7 @@
 //   fixed_point.cc        vertices snapped to 1/16 pixel, integer edge functions
 //   fixed_point_simd.cc   the fixed-point core a Highway vector at a time (bit-identical)
 //   hardware.cc           the paper's raster core in the hardware's integer numerics (hw/)
+//   rtl.cc                that core's RTL, simulated by Verilator (built where Verilator is found)
 // The engine (engine/raster_cores.h) chooses one per estimate and calls it for every sample on
 // every raster core; adding a backend means one file and a line in registry.cc.
 #pragma once
@@ -24,6 +25,10 @@
 #include "render/raster_fixed.h"
 #include "score/box_observation.h"
 #include "score/inlier.h"
+
+namespace mcpose::hw {
+class RtlCore;
+}
 
 namespace mcpose::backends {
 
@@ -58,6 +63,8 @@ struct Scratch {
   // The hardware model's (hardware.cc): the vertices, the IZ z-buffer.
   std::vector<hw::Vertex> hw_vertices;
   std::vector<uint32_t> hw_zbuf;
+  // The simulated RTL core of this raster core (rtl.cc).
+  std::shared_ptr<hw::RtlCore> rtl_core;
 };
 
 class Backend {
@@ -95,6 +102,11 @@ score::InlierCounts Count(const BoxTarget& box, const float* zbuf, const render:
 score::ColourStats CountColour(const BoxTarget& box, const float* zbuf, const render::PixelRect& rel,
                                const Eigen::Matrix3f& R, const Eigen::Vector3f& t, const SampleSettings& settings,
                                bool simd);
+// The colour test beside the hardware's core (hw and rtl): its IZ z-buffer (box-sized) in metres
+// into scratch->zbuf, then CountColour over the whole box into counts->colour.
+void CountHardwareColour(const BoxTarget& box, std::span<const uint32_t> hw_zbuf, const Eigen::Matrix3f& R,
+                         const Eigen::Vector3f& t, const SampleSettings& settings, Scratch* scratch,
+                         score::InlierCounts* counts);
 
 }  // namespace steps
 

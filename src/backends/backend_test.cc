@@ -149,10 +149,40 @@ TEST(Backends, HardwareAgreesWithTheReferenceOnRandomPoses) {
   }
 }
 
+// The RTL (hw/rtl/raster_core.sv through Verilator) against the C++ model of its numerics: the
+// same counts, sample for sample, on random poses of both boxes, culling on and off.
+TEST(Backends, RtlGivesTheHardwareModelsCounts) {
+  if (!RtlBackendAvailable()) GTEST_SKIP() << "built without Verilator: no rtl backend";
+  for (bool cull : {true, false}) {
+    Scene s = MakeScene(40, InlierMode::k1D, 31 + cull);
+    const float eps = 0.01f;
+    for (score::BoxObservation& box : s.boxes) score::AddDepthBounds(&box, eps);
+    std::vector<hw::ModelVertex> model;
+    ASSERT_TRUE(hw::QuantizeModel(s.mesh.vertices_m, &model));
+    std::vector<BoxTarget> targets = {{&s.boxes[0], &s.mesh, nullptr}, {&s.boxes[1], &s.mesh, nullptr}};
+    for (BoxTarget& t : targets) t.hw_model = &model;
+    SampleSettings settings;
+    settings.eps_m = eps;
+    settings.cull_backfaces = cull;
+    settings.batched_setup = false;
+    RasterCounters hw_stats, rtl_stats;
+    const auto hw = Score(RasterBackend::kHardware, 1, targets, settings, s.particles, &hw_stats);
+    const auto rtl = Score(RasterBackend::kRtl, 2, targets, settings, s.particles, &rtl_stats);
+    EXPECT_EQ(rtl, hw) << "cull " << cull;
+    EXPECT_EQ(rtl_stats.triangles_in, hw_stats.triangles_in);
+    EXPECT_EQ(rtl_stats.triangles_rasterized, hw_stats.triangles_rasterized);
+    EXPECT_EQ(rtl_stats.fragments, hw_stats.fragments);
+    EXPECT_GT(hw_stats.fragments, 0);
+  }
+}
+
 TEST(Backends, RegistryGivesEachKind) {
   for (RasterBackend kind : {RasterBackend::kScalar, RasterBackend::kFloatSimd, RasterBackend::kFixedPoint,
                              RasterBackend::kSimd, RasterBackend::kHardware})
     EXPECT_EQ(MakeBackend(kind)->kind(), kind);
+  if (RtlBackendAvailable()) {
+    EXPECT_EQ(MakeBackend(RasterBackend::kRtl)->kind(), RasterBackend::kRtl);
+  }
 }
 
 }  // namespace

@@ -6,8 +6,6 @@
 // hardware does not have, runs beside it on the z-buffer in metres.
 #include "backends/backend.h"
 
-#include <algorithm>
-
 #include "core/check.h"
 
 namespace mcpose::backends {
@@ -46,12 +44,7 @@ class Hardware final : public Backend {
       stats->culled_between_pixels += core.between_pixels;
       stats->culled_hw_range += core.guard_band + core.too_large;
     }
-    if (box.colour) {
-      s->zbuf.resize(std::max(s->zbuf.size(), area + render::kSimdPadFloats));
-      for (size_t i = 0; i < area; ++i) s->zbuf[i] = hw::DepthMetres(s->hw_zbuf[i]);
-      const render::PixelRect whole{0, 0, obs.rect.width(), obs.rect.height()};
-      counts.colour = steps::CountColour(box, s->zbuf.data(), whole, R, t, settings, /*simd=*/false);
-    }
+    if (box.colour) steps::CountHardwareColour(box, s->hw_zbuf, R, t, settings, s, &counts);
     return counts;
   }
 };

@@ -16,7 +16,7 @@ namespace mcpose {
 namespace {
 
 constexpr std::array<const char*, 2> kInlierNames = {"1d", "3d"};                        // InlierMode
-constexpr std::array<const char*, 5> kBackendNames = {"scalar", "fixed", "simd", "float-simd", "hw"};  // RasterBackend
+constexpr std::array<const char*, 6> kBackendNames = {"scalar", "fixed", "simd", "float-simd", "hw", "rtl"};  // RasterBackend
 constexpr std::array<const char*, 3> kSpaceNames = {"rgb", "chroma", "intensity-hue"};  // Space
 constexpr std::array<const char*, 2> kOnOff = {"off", "on"};
 
@@ -162,8 +162,9 @@ const OptionField kFields[] = {
 
     {MCPOSE_OPTION(engine.backend, "--engine"), 0, 0, false, false, "",
      "Raster core: scalar (float reference), float-simd (the reference a vector at a time, same results), fixed "
-     "(1/16-pixel fixed point), simd (fixed point a vector at a time) or hw (the paper's hardware raster core "
-     "in its integer numerics, docs/hardware.md; 1-D inliers)",
+     "(1/16-pixel fixed point), simd (fixed point a vector at a time) hw (the paper's hardware raster core "
+     "in its integer numerics, docs/hardware.md; 1-D inliers) or rtl (that core's RTL simulated by Verilator: hw's "
+     "results, some 150 times slower; builds with Verilator only)",
      kEngineOptions, Sw::kPair, kBackendNames},
     {MCPOSE_OPTION(engine.threads, "--threads"), 0, limits::kMaxThreads, false, false, "",
      "Worker threads; 0 = all hardware threads", kEngineOptions},

@@ -35,6 +35,18 @@ bool IsFixedPoint(RasterBackend backend) {
   return backend == RasterBackend::kFixedPoint || backend == RasterBackend::kSimd;
 }
 
+bool IsHardwareNumerics(RasterBackend backend) {
+  return backend == RasterBackend::kHardware || backend == RasterBackend::kRtl;
+}
+
+bool RtlBackendAvailable() {
+#if MCPOSE_HAVE_RTL
+  return true;
+#else
+  return false;
+#endif
+}
+
 const char* AppearanceOptions::SpaceName(Space space) { return NameOf(space, ColourSpaceNames()); }
 bool AppearanceOptions::ParseSpace(const std::string& name, Space* space) {
   return ValueOf(name, ColourSpaceNames(), space);
@@ -89,8 +101,12 @@ bool EstimatorOptions::IsValid(std::string* error) const {
     return Fail(error, "engine.cluster_culling needs a fixed-point engine.backend (fixed or simd), not " + backend);
   if (engine.batched_setup && !IsFixedPoint(engine.backend))
     return Fail(error, "engine.batched_setup needs a fixed-point engine.backend (fixed or simd), not " + backend);
-  if (engine.backend == RasterBackend::kHardware && weight.inlier != InlierMode::k1D)
-    return Fail(error, "engine.backend hw counts 1-D inliers only (weight.inlier 1d), as the paper's hardware does");
+  if (IsHardwareNumerics(engine.backend) && weight.inlier != InlierMode::k1D)
+    return Fail(error, "engine.backend " + backend +
+                           " counts 1-D inliers only (weight.inlier 1d), as the paper's hardware does");
+  if (engine.backend == RasterBackend::kRtl && !RtlBackendAvailable())
+    return Fail(error, "engine.backend rtl needs a build with Verilator (scripts/install_deps.sh installs it; "
+                       "the build finds it when configured)");
   return true;
 }
 

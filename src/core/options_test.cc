@@ -104,20 +104,34 @@ TEST(EngineOptions, ReferenceAndDroppedFeaturesAreValid) {
 }
 
 TEST(EstimatorOptions, HardwareBackendCountsOneDimensionalInliersOnly) {
+  for (RasterBackend b : {RasterBackend::kHardware, RasterBackend::kRtl}) {
+    if (b == RasterBackend::kRtl && !RtlBackendAvailable()) continue;
+    EstimatorOptions o;
+    o.engine.backend = b;
+    o.engine.DropUnusableFeatures();
+    std::string error;
+    EXPECT_TRUE(o.IsValid(&error)) << error;
+    o.weight.inlier = InlierMode::k3D;
+    EXPECT_FALSE(o.IsValid(&error));
+    EXPECT_NE(error.find(std::string("engine.backend ") + RasterBackendName(b)), std::string::npos) << error;
+  }
+}
+
+TEST(EstimatorOptions, RtlBackendOnlyWhereBuiltWithVerilator) {
   EstimatorOptions o;
-  o.engine.backend = RasterBackend::kHardware;
+  o.engine.backend = RasterBackend::kRtl;
   o.engine.DropUnusableFeatures();
   std::string error;
-  EXPECT_TRUE(o.IsValid(&error)) << error;
-  o.weight.inlier = InlierMode::k3D;
-  EXPECT_FALSE(o.IsValid(&error));
-  EXPECT_NE(error.find("engine.backend hw"), std::string::npos) << error;
+  EXPECT_EQ(o.IsValid(&error), RtlBackendAvailable()) << error;
+  if (!RtlBackendAvailable()) {
+    EXPECT_NE(error.find("Verilator"), std::string::npos) << error;
+  }
 }
 
 TEST(EstimatorOptions, BackendNamesRoundTrip) {
   for (RasterBackend b :
        {RasterBackend::kScalar, RasterBackend::kFixedPoint, RasterBackend::kSimd, RasterBackend::kFloatSimd,
-        RasterBackend::kHardware}) {
+        RasterBackend::kHardware, RasterBackend::kRtl}) {
     RasterBackend parsed;
     ASSERT_TRUE(ParseRasterBackend(RasterBackendName(b), &parsed));
     EXPECT_EQ(parsed, b);

@@ -5,6 +5,7 @@
 
 #include "core/check.h"
 #include "engine/initialize.h"
+#include "hw/rtl_core.h"
 #include "score/weight.h"
 
 namespace mcpose::engine {
@@ -91,7 +92,7 @@ StatusOr<std::unique_ptr<BoxScorer>> BoxScorer::Create(Context& context, const I
     s.observed_.push_back(score::DistributeBox(depth, K, rect, d.score, opt.weight.inlier, stride,
                                                s.colour_ ? colour : nullptr, transform,
                                                opt.appearance.smooth_radius, opt.appearance.drop_clipped));
-    if (opt.engine.backend == RasterBackend::kHardware)
+    if (IsHardwareNumerics(opt.engine.backend))
       score::AddDepthBounds(&s.observed_.back(), static_cast<float>(opt.weight.eps_m));
   }
   // ---- Level of detail: per box, the coarsest mesh within the pixel error budget ----------
@@ -107,8 +108,8 @@ StatusOr<std::unique_ptr<BoxScorer>> BoxScorer::Create(Context& context, const I
     s.levels_.push_back(level);
     s.targets_.push_back(target);
   }
-  // ---- The hardware's formats of each distinct mesh (engine backend hw) --------------------
-  if (opt.engine.backend == RasterBackend::kHardware) {
+  // ---- The hardware's formats of each distinct mesh (engine backends hw and rtl) -----------
+  if (IsHardwareNumerics(opt.engine.backend)) {
     for (backends::BoxTarget& target : s.targets_) {
       auto it = std::find_if(s.hw_models_.begin(), s.hw_models_.end(),
                              [&](const auto& m) { return m.first == target.mesh; });
@@ -121,6 +122,22 @@ StatusOr<std::unique_ptr<BoxScorer>> BoxScorer::Create(Context& context, const I
         it = std::prev(s.hw_models_.end());
       }
       target.hw_model = it->second.get();
+    }
+  }
+  // The simulated core's memories (hw/rtl_core.h).
+  if (opt.engine.backend == RasterBackend::kRtl) {
+    for (const backends::BoxTarget& target : s.targets_) {
+      const render::PixelRect& r = target.observed->rect;
+      if (r.width() > hw::kRtlMaxBoxSide || r.height() > hw::kRtlMaxBoxSide ||
+          r.area() > (int64_t{1} << hw::kRtlBoxWordBits))
+        return InvalidArgument("engine backend rtl: a box of " + std::to_string(r.width()) + " x " +
+                               std::to_string(r.height()) + " grid pixels, beyond the simulated core's memories (" +
+                               std::to_string(1 << hw::kRtlBoxWordBits) + " pixels, " +
+                               std::to_string(hw::kRtlMaxBoxSide) + " a side)");
+      if (target.mesh->vertices_m.size() > (size_t{1} << hw::kRtlVertexIndexBits))
+        return InvalidArgument("engine backend rtl: a mesh of " + std::to_string(target.mesh->vertices_m.size()) +
+                               " vertices, beyond the simulated core's vertex memory (" +
+                               std::to_string(1 << hw::kRtlVertexIndexBits) + ")");
     }
   }
   s.depth_ = &depth;
@@ -138,7 +155,7 @@ StatusOr<std::unique_ptr<BoxScorer>> BoxScorer::Create(Context& context, const I
 
 void BoxScorer::set_inlier_threshold(float eps_m) {
   settings_.eps_m = eps_m;
-  if (context_->options().engine.backend == RasterBackend::kHardware)
+  if (IsHardwareNumerics(context_->options().engine.backend))
     for (score::BoxObservation& o : observed_) score::AddDepthBounds(&o, eps_m);
 }
 
