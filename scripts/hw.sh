@@ -24,7 +24,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 OUT=${MCPOSE_HW_BUILD:-build-hw}
 RTL=(hw/rtl/udiv.sv hw/rtl/sfloordiv.sv hw/rtl/raster_core.sv)
-TOP=(hw/rtl/weight_merger.sv hw/rtl/raster_top.sv)
+TOP=(hw/rtl/depth_distributor.sv hw/rtl/weight_merger.sv hw/rtl/raster_top.sv)
 need() { command -v "$1" > /dev/null || { echo "hw.sh: $1 is not installed (scripts/install_deps.sh)" >&2; exit 1; }; }
 case "${1:-}" in
   lint)
@@ -42,6 +42,12 @@ case "${1:-}" in
       -CFLAGS "-std=c++20 -O2 -I$(pwd)/src -I/usr/include/eigen3" > "$OUT"/verilate.log 2>&1 ||
       { cat "$OUT"/verilate.log >&2; exit 1; }
     "$OUT"/raster_core/raster_core_tb "${2:-2000}" "${3:-1}"
+    verilator --cc --exe --build -j 2 -O2 --top-module depth_distributor \
+      --Mdir "$OUT/depth_distributor" -o depth_distributor_tb hw/rtl/udiv.sv hw/rtl/depth_distributor.sv \
+      "$(pwd)/hw/sim/depth_distributor_tb.cc" "$(pwd)/src/hw/raster_core.cc" \
+      -CFLAGS "-std=c++20 -O2 -I$(pwd)/src -I/usr/include/eigen3" > "$OUT"/verilate_dist.log 2>&1 ||
+      { cat "$OUT"/verilate_dist.log >&2; exit 1; }
+    "$OUT"/depth_distributor/depth_distributor_tb "$(( (${2:-2000} + 9) / 10 ))" "${3:-1}"
     ;;
   workload)
     need verilator
@@ -55,7 +61,7 @@ case "${1:-}" in
     fi
     verilator --cc --exe --build -j 2 -O2 --top-module raster_top \
       --Mdir "$OUT/raster_top" -o raster_top_tb "${RTL[@]}" "${TOP[@]}" "$(pwd)/hw/sim/raster_top_tb.cc" \
-      "$(pwd)/src/hw/weight_merger.cc" \
+      "$(pwd)/src/hw/weight_merger.cc" "$(pwd)/src/hw/raster_core.cc" \
       -CFLAGS "-std=c++20 -O2 -I$(pwd)/src -I/usr/include/eigen3" > "$OUT"/verilate_top.log 2>&1 ||
       { cat "$OUT"/verilate_top.log >&2; exit 1; }
     "$OUT"/raster_top/raster_top_tb "$file"

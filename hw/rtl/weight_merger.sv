@@ -15,7 +15,7 @@ module weight_merger #(
     input logic [CORES*32-1:0]   inliers,
     input logic [CORES*32-1:0]   rendered,
     input logic [CORES*32-1:0]   occluded,
-    input logic [        31:0]   observed,  // N_b
+    input logic [CORES*32-1:0]   observed,  // N_b of each core's box
     input logic [        16:0]   coef_a,    // Q16, each at most 2^16
     input logic [        16:0]   coef_b,
     input logic [        16:0]   coef_c,
@@ -33,7 +33,7 @@ module weight_merger #(
   typedef enum logic [1:0] {M_IDLE, M_NEXT, M_DIV} mstate_t;
   mstate_t state;
   logic [CI-1:0] core;
-  logic [31:0] n, r;
+  logic [31:0] n, r, nb;
   logic [33:0] detector;  // floor(c s / 2^16)
   logic div_start;
   logic [63:0] quo_recall, quo_precision;
@@ -41,6 +41,7 @@ module weight_merger #(
 
   always_comb begin
     n = inliers[core * 32 +: 32];
+    nb = observed[core * 32 +: 32];
     r = occlusion_aware ? rendered[core * 32 +: 32] - occluded[core * 32 +: 32] : rendered[core * 32 +: 32];
   end
   logic [63:0] num_a, num_b;
@@ -48,7 +49,7 @@ module weight_merger #(
   assign num_b = 64'(coef_b) * 64'(n);
 
   udiv #(.W(64), .QA(18), .QB(18)) recall_div (
-      .clk(clk), .rst(rst), .start(div_start), .qsel(1'b0), .num(num_a), .den(64'(observed)),
+      .clk(clk), .rst(rst), .start(div_start), .qsel(1'b0), .num(num_a), .den(64'(nb)),
       /* verilator lint_off PINCONNECTEMPTY */
       .busy(),
       /* verilator lint_on PINCONNECTEMPTY */
@@ -93,7 +94,7 @@ module weight_merger #(
         M_DIV:
         if ((dd | div_done) == 2'b11) begin
           logic [31:0] w;  // as the model's, modulo 2^32 (never reached: w <= 2^16 + 2^16 + 2^16)
-          w = 32'((observed != 0 ? quo_recall : 64'd0) + ($signed(r) > 0 ? quo_precision : 64'd0) + 64'(detector));
+          w = 32'((nb != 0 ? quo_recall : 64'd0) + ($signed(r) > 0 ? quo_precision : 64'd0) + 64'(detector));
           w_valid <= 1'b1;
           w_core <= 8'(core);
           w_data <= w;

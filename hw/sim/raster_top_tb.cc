@@ -1,9 +1,10 @@
-// Verilator testbench of hw/rtl/raster_top.sv (20 raster cores in lockstep, the depth and object
-// vertex distributors, the weight merger) on the real workload `mcpose-tools hw-workload`
-// writes: each object's bounds written once to every core, its samples in batches of 20, every
-// core's counts compared with the C++ model's and every weight (and their sum) with
-// hw::MergedWeight of the model's counts. Prints per object the clocks of the whole iteration (bounds, then every
-// batch) and its time at 200 MHz; exits 1 on a mismatch.
+// Verilator testbench of hw/rtl/raster_top.sv (20 raster cores, the depth and object vertex
+// distributors, the weight merger) on the real workload `mcpose-tools hw-workload` writes: each
+// object's depth read once by the depth distributor, which writes its bounds to every core; its
+// samples in batches of 20; every core's counts compared with the C++ model's, and every weight
+// (and their sum) with hw::MergedWeight of the model's counts. Prints per object the clocks of the
+// whole iteration (the depth's distribution, then every batch) and its time at 200 MHz; exits 1
+// on a mismatch.
 // Usage: raster_top_tb FILE
 #include <algorithm>
 #include <cstdint>
@@ -57,16 +58,31 @@ int main(int argc, char** argv) {
   int total = 0, mismatches = 0;
   for (const auto& o : objects) {
     const uint64_t start = t.cycles;
-    // The depth distributor: each word once, to every core.
-    for (size_t i = 0; i < o.bounds.size(); ++i) {
-      t.top.bnd_we = 1;
-      t.top.bnd_cores = (1u << kCores) - 1;
-      t.top.bnd_addr = static_cast<uint32_t>(i);
-      t.top.bnd_lo = o.bounds[i].lo;
-      t.top.bnd_hi = o.bounds[i].hi;
-      t.Tick();
+    // Every core's box is the object's: the depth distributor reads it once for all of them.
+    for (int c = 0; c < kCores; ++c) {
+      SetBits(t.top.box_x0, 11 * c, 11, 0);
+      SetBits(t.top.box_y0, 11 * c, 11, 0);
+      SetBits(t.top.box_w, 11 * c, 11, static_cast<uint64_t>(o.camera.width));
+      SetBits(t.top.box_h, 11 * c, 11, static_cast<uint64_t>(o.camera.height));
+      SetBits(t.top.cam_cx, 32 * c, 32, static_cast<uint32_t>(o.camera.cx));
+      SetBits(t.top.cam_cy, 32 * c, 32, static_cast<uint32_t>(o.camera.cy));
     }
-    t.top.bnd_we = 0;
+    t.top.eps = static_cast<uint32_t>(o.eps);
+    t.top.dist_start = 1;
+    t.Tick();
+    t.top.dist_start = 0;
+    for (int y = 0; y < o.camera.height; ++y)
+      for (int x = 0; x < o.camera.width; ++x) {
+        while (!t.top.d_ready) t.Tick();
+        t.top.d_valid = 1;
+        t.top.d_x = static_cast<uint32_t>(x);
+        t.top.d_y = static_cast<uint32_t>(y);
+        t.top.d_depth = static_cast<uint32_t>(o.depth[static_cast<size_t>(y * o.camera.width + x)]);
+        t.Tick();
+        t.top.d_valid = 0;
+      }
+    while (!t.top.d_ready) t.Tick();
+    t.Tick();  // the last pixel's write
     int32_t observed = 0;  // N_b: the words with an observed depth
     for (const auto& b : o.bounds) observed += b.lo != 0;
     t.top.coef_a = o.weight.a;
@@ -80,11 +96,7 @@ int main(int argc, char** argv) {
     uint64_t want_sum = 0;
     t.top.cam_fx = static_cast<uint32_t>(o.camera.fx);
     t.top.cam_fy = static_cast<uint32_t>(o.camera.fy);
-    t.top.cam_cx = static_cast<uint32_t>(o.camera.cx);
-    t.top.cam_cy = static_cast<uint32_t>(o.camera.cy);
     t.top.cam_z_near = static_cast<uint32_t>(o.camera.z_near);
-    t.top.box_w = static_cast<uint32_t>(o.camera.width);
-    t.top.box_h = static_cast<uint32_t>(o.camera.height);
     t.top.cull = o.cull;
     int object_mismatches = 0;
     std::vector<uint64_t> batch_cycles;

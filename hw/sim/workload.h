@@ -29,7 +29,9 @@ struct WorkloadObject {
   Camera camera;
   bool cull = true;
   WeightCoefficients weight;
-  std::vector<DepthBounds> bounds;
+  int32_t eps = 0;              // depth units
+  std::vector<int32_t> depth;   // the box's observed depth, depth units (0: none)
+  std::vector<DepthBounds> bounds;  // hw::InlierBounds of each
   std::vector<ModelVertex> model;
   std::vector<std::array<uint32_t, 3>> triangles;
   std::vector<WorkloadSample> samples;
@@ -46,7 +48,7 @@ inline std::vector<WorkloadObject> ReadWorkload(const std::string& path, size_t 
   if (!in) WorkloadError(path, "cannot open");
   std::string line, word, key;
   std::getline(in, line);
-  if (line.rfind("# mcpose hardware workload v2", 0) != 0)
+  if (line.rfind("# mcpose hardware workload v3", 0) != 0)
     WorkloadError(path, "not a workload file (mcpose-tools hw-workload writes them)");
   std::vector<WorkloadObject> objects;
   while (in >> word && word != "end") {
@@ -62,12 +64,13 @@ inline std::vector<WorkloadObject> ReadWorkload(const std::string& path, size_t 
     in >> key >> o.weight.a >> o.weight.b >> o.weight.c >> o.weight.score >> occlusion_aware;
     if (!in || key != "weight") WorkloadError(path, "object " + std::to_string(o.obj_id) + ": bad weight line");
     o.weight.occlusion_aware = occlusion_aware != 0;
-    in >> key >> n;
-    if (!in || key != "bounds" || n != static_cast<size_t>(c.width) * static_cast<size_t>(c.height) ||
-        n > max_box_words)
-      WorkloadError(path, "object " + std::to_string(o.obj_id) + ": bad camera or bounds");
-    o.bounds.resize(n);
-    for (DepthBounds& b : o.bounds) in >> b.lo >> b.hi;
+    in >> key >> n >> o.eps;
+    if (!in || key != "depth" || n != static_cast<size_t>(c.width) * static_cast<size_t>(c.height) ||
+        n > max_box_words || o.eps < 1)
+      WorkloadError(path, "object " + std::to_string(o.obj_id) + ": bad camera or depth");
+    o.depth.resize(n);
+    for (int32_t& d : o.depth) in >> d;
+    for (int32_t d : o.depth) o.bounds.push_back(InlierBounds(d, o.eps));
     in >> key >> n;
     if (!in || n > kMaxVertices)
       WorkloadError(path, "object " + std::to_string(o.obj_id) + ": more vertices than the core's vertex RAM (" +

@@ -316,7 +316,7 @@ StatusOr<int64_t> WriteHardwareWorkload(const Dataset& ds, const BenchOptions& o
   if (!eo.IsValid(&error)) return InvalidArgument("invalid options: " + error);
   engine::Context context(eo);
   int64_t written = 0;
-  out << "# mcpose hardware workload v2: per object its box's depth bounds, weight, mesh and samples\n";
+  out << "# mcpose hardware workload v3: per object its box's observed depth, weight, mesh and samples\n";
   for (int obj_id : ids) {
     Frame frame;
     Detection box;
@@ -343,8 +343,11 @@ StatusOr<int64_t> WriteHardwareWorkload(const Dataset& ds, const BenchOptions& o
     const hw::WeightCoefficients w =
         hw::QuantizeWeight(eo.weight.a, eo.weight.b, eo.weight.c, box.score, eo.weight.occlusion_aware);
     out << "weight " << w.a << ' ' << w.b << ' ' << w.c << ' ' << w.score << ' ' << (w.occlusion_aware ? 1 : 0) << '\n';
-    out << "bounds " << obs.depth_bounds.size() << '\n';
-    for (const hw::DepthBounds& b : obs.depth_bounds) out << b.lo << ' ' << b.hi << '\n';
+    // The depth distributor's input: the box's depth in depth units (its bounds are
+    // hw::InlierBounds of each, as obs.depth_bounds holds them).
+    const std::vector<int32_t> depth = hw::ObservedDepthUnits(obs.observed);
+    out << "depth " << depth.size() << ' ' << hw::EpsUnits(static_cast<float>(eo.weight.eps_m)) << '\n';
+    for (int32_t d : depth) out << d << '\n';
     out << "vertices " << model.size() << '\n';
     for (const hw::ModelVertex& v : model) out << v[0] << ' ' << v[1] << ' ' << v[2] << '\n';
     out << "triangles " << level.triangles.size() << '\n';
