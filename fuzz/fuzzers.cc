@@ -1,5 +1,5 @@
-// libFuzzer targets, one per file reader. Each executable is this file compiled with
-// MCPOSE_FUZZ_TARGET naming one entry of kTargets (see fuzz/CMakeLists.txt). A target writes the
+// libFuzzer targets, one per file reader. This file is compiled once; each executable adds a
+// one-line file defining kFuzzTargetName, one entry of kTargets (see fuzz/CMakeLists.txt). A target writes the
 // input where its reader expects a file and reads it; any status is fine, a crash, leak or
 // sanitizer report is a bug. Seed corpora come from the data folder (scripts/fuzz.sh).
 #include <cstddef>
@@ -25,11 +25,10 @@
 #include "mcpose/detection.h"
 #include "mcpose/results.h"
 
-#ifndef MCPOSE_FUZZ_TARGET
-#error "compile with -DMCPOSE_FUZZ_TARGET=\"<target name>\""
-#endif
-
 namespace mcpose::fuzz {
+
+extern const char kFuzzTargetName[];  // the executable's target (fuzz/CMakeLists.txt writes it)
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -136,7 +135,7 @@ constexpr Target kTargets[] = {
 
 const Target& Selected() {
   for (const Target& t : kTargets)
-    if (std::string_view(t.name) == MCPOSE_FUZZ_TARGET) return t;
+    if (std::string_view(t.name) == kFuzzTargetName) return t;
   std::abort();
 }
 

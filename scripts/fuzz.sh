@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets of fuzz/ (clang, ASan + UBSan with float-cast-overflow) into
-# build-fuzz/ and runs each for SECONDS (default 60) from a seed corpus taken from the data
+# build-fuzz/ and runs each for SECONDS (default 60), two at a time, from a seed corpus taken from the data
 # folder. Fails on any crash, leak, timeout or sanitizer report; the input that caused it is
 # kept in build-fuzz/artifacts/<target>/. Prints executions per target.
 # Usage: scripts/fuzz.sh [SECONDS]     Data: ../shared/data beside the repository, or $MCPOSE_DATA_DIR.
@@ -59,21 +59,25 @@ printf '[{"scene_id": 49, "image_id": 1, "category_id": 1, "score": 0.9, "bbox":
 printf 'scene_id,im_id,obj_id,score,R,t,time\n49,1,1,0.9,1 0 0 0 1 0 0 0 1,10.5 -3 800,0.25\n49,1,2,0.5,0 -1 0 1 0 0 0 0 1,0 0 1000,-1\n' |
   text_seed results_csv res.csv
 
-# ---- Run each target for SECONDS_EACH seconds -------------------------------------------
+# ---- Run each target for SECONDS_EACH seconds, two at a time (one a core) ------------------
+run_target() {  # run_target TARGET: its log in $OUT/logs/, its exit status in $OUT/logs/TARGET.rc
+  local target="$1" corpus="$OUT/corpus/$1" artifacts="$OUT/artifacts/$1/" rc=0
+  mkdir -p "$corpus" "$artifacts" "$OUT/logs"
+  "$OUT/fuzz/fuzz_$target" -max_total_time="$SECONDS_EACH" -timeout=25 -rss_limit_mb=2560 -max_len=1048576 \
+    -print_final_stats=1 -artifact_prefix="$artifacts" "$corpus" "$SEEDS/$target" >"$OUT/logs/$target.log" 2>&1 || rc=$?
+  echo "$rc" > "$OUT/logs/$target.rc"
+}
+targets=($(cat "$OUT/fuzz_targets.txt" | tr ';' ' '))
+for ((i = 0; i < ${#targets[@]}; i += 2)); do
+  echo "fuzz: ${targets[*]:i:2} for ${SECONDS_EACH}s"
+  for target in "${targets[@]:i:2}"; do run_target "$target" & done
+  wait
+done
 failed=()
 summary=()
-for target in $(cat "$OUT/fuzz_targets.txt" | tr ';' ' '); do
-  corpus="$OUT/corpus/$target"
-  artifacts="$OUT/artifacts/$target/"
-  mkdir -p "$corpus" "$artifacts"
+for target in "${targets[@]}"; do
   log="$OUT/logs/$target.log"
-  mkdir -p "$OUT/logs"
-  echo "fuzz: $target for ${SECONDS_EACH}s"
-  set +e
-  "$OUT/fuzz/fuzz_$target" -max_total_time="$SECONDS_EACH" -timeout=25 -rss_limit_mb=2560 -max_len=1048576 \
-    -print_final_stats=1 -artifact_prefix="$artifacts" "$corpus" "$SEEDS/$target" >"$log" 2>&1
-  rc=$?
-  set -e
+  rc=$(cat "$OUT/logs/$target.rc")
   execs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo "?")
   summary+=("$(printf '%-18s %10s execs  exit %d' "$target" "$execs" "$rc")")
   if [ "$rc" -ne 0 ] || grep -q -E 'ERROR: (AddressSanitizer|LeakSanitizer|libFuzzer)|runtime error:' "$log"; then
