@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/check.h"
+
 namespace mcpose::backends::steps {
 
 std::span<render::ScreenVertex> Prepare(const BoxTarget& box, Scratch* scratch) {
@@ -62,6 +64,21 @@ score::ColourStats CountColour(const BoxTarget& target, const float* zbuf, const
   for (int i = 0; i < 9; ++i) c.R_model_cam[i] = Rt(i / 3, i % 3);
   for (int a = 0; a < 3; ++a) c.t_model_cam[a] = tm[a];
   return simd ? score::CountColourSimd(c, *target.colour) : score::CountColour(c, *target.colour);
+}
+
+size_t CheckHardwareInputs(const BoxTarget& box, const SampleSettings& settings) {
+  const size_t area = static_cast<size_t>(box.observed->rect.area());
+  // The engine checks these before it scores (options and engine/box_scorer.cc).
+  MCPOSE_CHECK(settings.inlier_mode == InlierMode::k1D && box.observed->depth_bounds.size() == area &&
+               box.hw_model && box.hw_model->size() == box.mesh->vertices_m.size());
+  return area;
+}
+
+score::InlierCounts HardwareCounts(const hw::Counts& c, const score::BoxObservation& box) {
+  score::InlierCounts counts;
+  counts.inliers = c.inliers, counts.rendered = c.rendered, counts.occluded = c.occluded;
+  counts.observed = box.n_observed;
+  return counts;
 }
 
 void CountHardwareColour(const BoxTarget& box, std::span<const uint32_t> hw_zbuf, const Eigen::Matrix3f& R,

@@ -102,6 +102,11 @@ score::InlierCounts Count(const BoxTarget& box, const float* zbuf, const render:
 score::ColourStats CountColour(const BoxTarget& box, const float* zbuf, const render::PixelRect& rel,
                                const Eigen::Matrix3f& R, const Eigen::Vector3f& t, const SampleSettings& settings,
                                bool simd);
+// The hardware's backends (hw and rtl): checks what the engine guarantees them (1-D inliers, the
+// box's bounds, the model in the core's formats) and returns the box's area.
+size_t CheckHardwareInputs(const BoxTarget& box, const SampleSettings& settings);
+// The core's counts as the estimator's, with the box's N_b.
+score::InlierCounts HardwareCounts(const hw::Counts& c, const score::BoxObservation& box);
 // The colour test beside the hardware's core (hw and rtl): its IZ z-buffer (box-sized) in metres
 // into scratch->zbuf, then CountColour over the whole box into counts->colour.
 void CountHardwareColour(const BoxTarget& box, std::span<const uint32_t> hw_zbuf, const Eigen::Matrix3f& R,

@@ -6,6 +6,7 @@
 #include "backends/backend.h"
 
 #include <cmath>
+#include <memory>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -108,22 +109,36 @@ TEST(Backends, ClusterCullingKeepsTheFixedPointCounts) {
   }
 }
 
+// A scene the hardware's backends can score: the boxes' bounds, the model in the core's formats.
+struct HardwareScene {
+  Scene scene;
+  std::vector<hw::ModelVertex> model;
+  std::vector<BoxTarget> targets;
+  SampleSettings settings;
+};
+std::unique_ptr<HardwareScene> MakeHardwareScene(int n, uint64_t seed, bool cull) {
+  auto h = std::make_unique<HardwareScene>();
+  h->scene = MakeScene(n, InlierMode::k1D, seed);
+  const float eps = 0.01f;
+  for (score::BoxObservation& box : h->scene.boxes) score::AddDepthBounds(&box, eps);
+  EXPECT_TRUE(hw::QuantizeModel(h->scene.mesh.vertices_m, &h->model));
+  for (score::BoxObservation& box : h->scene.boxes) h->targets.push_back({&box, &h->scene.mesh, nullptr});
+  for (BoxTarget& t : h->targets) t.hw_model = &h->model;
+  h->settings.eps_m = eps;
+  h->settings.cull_backfaces = cull;
+  h->settings.batched_setup = false;
+  return h;
+}
+
 // The hardware numerics (hw/) against the float reference: the same pixels to a fraction of a
 // percent (coverage on its own 1/16-pixel grid, depth from its IZ plane), the same counts at any
 // thread count.
 TEST(Backends, HardwareAgreesWithTheReferenceOnRandomPoses) {
   for (bool cull : {true, false}) {
-    Scene s = MakeScene(240, InlierMode::k1D, 21 + cull);
-    const float eps = 0.01f;
-    for (score::BoxObservation& box : s.boxes) score::AddDepthBounds(&box, eps);
-    std::vector<hw::ModelVertex> model;
-    ASSERT_TRUE(hw::QuantizeModel(s.mesh.vertices_m, &model));
-    std::vector<BoxTarget> targets = {{&s.boxes[0], &s.mesh, nullptr}, {&s.boxes[1], &s.mesh, nullptr}};
-    for (BoxTarget& t : targets) t.hw_model = &model;
-    SampleSettings settings;
-    settings.eps_m = eps;
-    settings.cull_backfaces = cull;
-    settings.batched_setup = false;
+    const auto h = MakeHardwareScene(240, 21 + cull, cull);
+    const Scene& s = h->scene;
+    const auto& targets = h->targets;
+    const SampleSettings& settings = h->settings;
     RasterCounters ref_stats, hw_stats;
     const auto reference = Score(RasterBackend::kScalar, 1, targets, settings, s.particles, &ref_stats);
     const auto hw = Score(RasterBackend::kHardware, 1, targets, settings, s.particles, &hw_stats);
@@ -154,20 +169,10 @@ TEST(Backends, HardwareAgreesWithTheReferenceOnRandomPoses) {
 TEST(Backends, RtlGivesTheHardwareModelsCounts) {
   if (!RtlBackendAvailable()) GTEST_SKIP() << "built without Verilator: no rtl backend";
   for (bool cull : {true, false}) {
-    Scene s = MakeScene(40, InlierMode::k1D, 31 + cull);
-    const float eps = 0.01f;
-    for (score::BoxObservation& box : s.boxes) score::AddDepthBounds(&box, eps);
-    std::vector<hw::ModelVertex> model;
-    ASSERT_TRUE(hw::QuantizeModel(s.mesh.vertices_m, &model));
-    std::vector<BoxTarget> targets = {{&s.boxes[0], &s.mesh, nullptr}, {&s.boxes[1], &s.mesh, nullptr}};
-    for (BoxTarget& t : targets) t.hw_model = &model;
-    SampleSettings settings;
-    settings.eps_m = eps;
-    settings.cull_backfaces = cull;
-    settings.batched_setup = false;
+    const auto h = MakeHardwareScene(40, 31 + cull, cull);
     RasterCounters hw_stats, rtl_stats;
-    const auto hw = Score(RasterBackend::kHardware, 1, targets, settings, s.particles, &hw_stats);
-    const auto rtl = Score(RasterBackend::kRtl, 2, targets, settings, s.particles, &rtl_stats);
+    const auto hw = Score(RasterBackend::kHardware, 1, h->targets, h->settings, h->scene.particles, &hw_stats);
+    const auto rtl = Score(RasterBackend::kRtl, 2, h->targets, h->settings, h->scene.particles, &rtl_stats);
     EXPECT_EQ(rtl, hw) << "cull " << cull;
     EXPECT_EQ(rtl_stats.triangles_in, hw_stats.triangles_in);
     EXPECT_EQ(rtl_stats.triangles_rasterized, hw_stats.triangles_rasterized);

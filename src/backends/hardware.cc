@@ -6,8 +6,6 @@
 // hardware does not have, runs beside it on the z-buffer in metres.
 #include "backends/backend.h"
 
-#include "core/check.h"
-
 namespace mcpose::backends {
 
 namespace {
@@ -20,19 +18,14 @@ class Hardware final : public Backend {
                                   const SampleSettings& settings, Scratch* s,
                                   RasterCounters* stats) const override {
     const score::BoxObservation& obs = *box.observed;
-    const size_t area = static_cast<size_t>(obs.rect.area());
-    // The engine checks both before it scores (options and engine/box_scorer.cc).
-    MCPOSE_CHECK(settings.inlier_mode == InlierMode::k1D && obs.depth_bounds.size() == area && box.hw_model &&
-                 box.hw_model->size() == box.mesh->vertices_m.size());
+    const size_t area = steps::CheckHardwareInputs(box, settings);
     const hw::Camera camera = score::BoxHardwareCamera(obs);
     s->hw_zbuf.resize(area);
     hw::CoreStats core;
     hw::RenderSample(*box.hw_model, box.mesh->triangles, hw::QuantizePose(R, t), camera, settings.cull_backfaces,
                      &s->hw_vertices, s->hw_zbuf, &core);
     const hw::Counts c = hw::CountBox(s->hw_zbuf, obs.depth_bounds);
-    score::InlierCounts counts;
-    counts.inliers = c.inliers, counts.rendered = c.rendered, counts.occluded = c.occluded;
-    counts.observed = obs.n_observed;
+    score::InlierCounts counts = steps::HardwareCounts(c, obs);
     if (stats) {
       stats->triangles_in += core.triangles;
       stats->triangles_rasterized += core.drawn;

@@ -23,11 +23,9 @@ class Rtl final : public Backend {
                                   const SampleSettings& settings, Scratch* s,
                                   RasterCounters* stats) const override {
     const score::BoxObservation& obs = *box.observed;
-    const size_t area = static_cast<size_t>(obs.rect.area());
-    // The engine checks these before it scores (options and engine/box_scorer.cc).
-    MCPOSE_CHECK(settings.inlier_mode == InlierMode::k1D && obs.depth_bounds.size() == area && box.hw_model &&
-                 box.hw_model->size() == box.mesh->vertices_m.size() &&
-                 box.hw_model->size() <= (size_t{1} << hw::kRtlVertexIndexBits) &&
+    const size_t area = steps::CheckHardwareInputs(box, settings);
+    // The simulated core's memories (engine/box_scorer.cc refuses larger boxes and meshes).
+    MCPOSE_CHECK(box.hw_model->size() <= (size_t{1} << hw::kRtlVertexIndexBits) &&
                  area <= (size_t{1} << hw::kRtlBoxWordBits));
     if (!s->rtl_core) s->rtl_core = std::make_shared<hw::RtlCore>();
     s->rtl_core->SetBounds(obs.depth_bounds);
@@ -36,9 +34,7 @@ class Rtl final : public Backend {
     const hw::Counts c = s->rtl_core->Run(hw::QuantizePose(R, t), score::BoxHardwareCamera(obs),
                                           settings.cull_backfaces, *box.hw_model, box.mesh->triangles, s->hw_zbuf,
                                           &core);
-    score::InlierCounts counts;
-    counts.inliers = c.inliers, counts.rendered = c.rendered, counts.occluded = c.occluded;
-    counts.observed = obs.n_observed;
+    score::InlierCounts counts = steps::HardwareCounts(c, obs);
     if (stats) {
       stats->triangles_in += core.triangles;
       stats->triangles_rasterized += core.drawn;
