@@ -6,8 +6,10 @@
 #   scripts/hw.sh sim [SAMPLES [SEED]] Verilates the raster core with its testbench (hw/sim/) into
 #                                      build-hw/ and runs SAMPLES random samples (default 2000, seed 1)
 #                                      through the RTL and the C++ model (src/hw/): prints
-#                                      "N samples, M mismatches, cycles per sample (median, max)"
-#                                      and fails on a mismatch
+#                                      "N samples, M mismatches, cycles per sample (median, max)";
+#                                      then the depth distributor's testbench on SAMPLES / 10 random
+#                                      batches of 20 overlapping boxes against the model's bounds;
+#                                      fails on a mismatch
 #   scripts/hw.sh workload [FILE]      The real workload: `mcpose-tools hw-workload` (the initial
 #                                      hypotheses of one `mcpose bench` iteration of the paper's
 #                                      five objects, HW_SAMPLES of them (default 620), with the C++
