@@ -7,6 +7,7 @@
 
 #include "core/rng.h"
 #include "engine/initialize.h"
+#include "hw/rtl_core.h"
 #include "score/box_fit.h"
 #include "score/weight.h"
 #include "synthetic_mesh.h"
@@ -85,6 +86,25 @@ TEST(BoxScorer, HardwareBoundsFollowTheInlierThreshold) {
   for (size_t i = 0; i < a.size(); ++i) coarse += a[i].inliers, narrow += b[i].inliers;
   EXPECT_LT(narrow, coarse);
   EXPECT_GT(narrow, 0);
+}
+
+// The rtl backend's simulated core has fixed memories: a mesh with more vertices than its
+// vertex RAM is refused with a message that says so.
+TEST(BoxScorer, RtlRefusesAMeshBeyondTheSimulatedCoresVertexMemory) {
+  if (!RtlBackendAvailable()) GTEST_SKIP() << "built without Verilator: no rtl backend";
+  const Scene s = MakeScene();
+  EstimatorOptions o;
+  o.engine.backend = RasterBackend::kRtl;
+  o.engine.lod_error_px = 0;  // the full mesh, not a coarser level
+  o.engine.DropUnusableFeatures();
+  Mesh big = s.mesh;
+  while (big.vertices_m.size() <= (size_t{1} << hw::kRtlVertexIndexBits)) big.vertices_m.push_back(big.vertices_m[0]);
+  Context context(o);
+  const std::vector<Detection> boxes = {Detection{1, 1, 5, 0.9, 100, 80, 80, 60}};
+  auto refused = BoxScorer::Create(context, s.K, s.depth, big, boxes);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.status().message().find("vertex memory"), std::string::npos) << refused.status().message();
+  EXPECT_TRUE(BoxScorer::Create(context, s.K, s.depth, s.mesh, boxes).ok());
 }
 
 // The weight of the counts, times the box-fit factor of the pose (score/box_fit.h); with the
