@@ -8,6 +8,10 @@
 
 namespace mcpose::hw {
 
+// The core was verilated with these memories (CMakeLists.txt passes the same numbers).
+static_assert(MCPOSE_RTL_AW == kRtlBoxWordBits && MCPOSE_RTL_VW == kRtlVertexIndexBits,
+              "the Verilated core's AW and VW differ from hw/rtl_core.h's");
+
 struct RtlCore::Impl {
   VerilatedContext context;  // one per model: models in different threads share nothing
   Vraster_core core{&context};
