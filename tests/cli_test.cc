@@ -840,6 +840,12 @@ TEST(Cli, MissesTellsSearchFromWeightFailures) {
   EXPECT_GT(m["truth_weight"].get<double>(), m["estimate_weight"].get<double>());
   EXPECT_LT(m["truth_aligned_adds_mm"].get<double>(), 10.0);
   EXPECT_NE(r.out.find("1 answers: 1 search failures, 0 weight failures"), std::string::npos) << r.out;
+  // A search failure's basin: a step of 2.5-20 (deg, mm), or null where no probe reaches the estimate.
+  for (const char* key : {"basin_turn_deg", "basin_shift_mm"}) {
+    ASSERT_TRUE(m.contains(key)) << m.dump();
+    EXPECT_TRUE(m[key].is_null() || (m[key].get<double>() >= 2.5 && m[key].get<double>() <= 20)) << m.dump();
+  }
+  EXPECT_NE(r.out.find("search failures' basin, median:"), std::string::npos) << r.out;
   // As the filter weighs (its level of detail and pixel stride): the same verdict.
   const CliResult f = RunTools(base + " --as-filter --results " + (dir / "r.csv").string() + " --json " + json.string(), dir);
   ASSERT_EQ(f.exit_code, 0) << f.err;

@@ -1,3 +1,5 @@
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <map>
 #include <memory>
@@ -51,10 +53,19 @@ Status RunMisses(MissesArgs& a) {
   std::map<int, Mesh> meshes;
   std::printf("Answers with ADD-S >= %.1f mm: %s weight of the estimate and of the truth aligned to\n"
               "the depth, each at its best over the class's boxes. search: the truth weighs more (the filter\n"
-              "did not find it); weight: the estimate weighs as much or more.\n",
+              "did not find it); weight: the estimate weighs as much or more. basin (search failures): the\n"
+              "smallest turn about a model axis (deg) and move along a camera axis (mm) of the aligned truth,\n"
+              "of 2.5, 5, 10, 20, at which it no longer outweighs the estimate (>20: at none).\n",
               a.min_adds_mm, a.as_filter ? "the filter's (its level of detail and pixel stride)" : "full-resolution");
-  std::printf("%-10s %-24s %9s %10s %5s %10s %5s %12s %8s\n", "scene/im", "object", "ADD-S mm", "estimate", "box",
-              "truth", "box", "truth mm", "failure");
+  std::printf("%-10s %-24s %9s %10s %5s %10s %5s %12s %8s %10s %9s\n", "scene/im", "object", "ADD-S mm", "estimate",
+              "box", "truth", "box", "truth mm", "failure", "basin deg", "basin mm");
+  const auto step = [](double v) {
+    if (std::isinf(v)) return std::string(">20");
+    char text[16];
+    std::snprintf(text, sizeof text, "%g", v);
+    return std::string(text);
+  };
+  std::vector<double> turns, moves;
   nlohmann::json rows = nlohmann::json::array();
   int search = 0, weight = 0;
   for (const InstanceEval& e : eval.instances) {
@@ -82,17 +93,32 @@ Status RunMisses(MissesArgs& a) {
     const double truth_mm = 1000 * AddS(points, m->truth_aligned, T_gt);
     const char* verdict = m->search_failure() ? "search" : "weight";
     (m->search_failure() ? search : weight)++;
-    std::printf("%-10s %-24s %9.1f %10.4f %5d %10.4f %5d %12.1f %8s\n",
+    if (m->search_failure()) turns.push_back(m->basin_turn_deg), moves.push_back(m->basin_shift_mm);
+    std::printf("%-10s %-24s %9.1f %10.4f %5d %10.4f %5d %12.1f %8s %10s %9s\n",
                 (std::to_string(e.key.scene_id) + "/" + std::to_string(e.key.image_id)).c_str(),
                 dataset->ObjectName(e.obj_id).c_str(), 1000 * e.adds_m, m->estimate_weight, m->estimate_box,
-                m->truth_weight, m->truth_box, truth_mm, verdict);
+                m->truth_weight, m->truth_box, truth_mm, verdict,
+                m->search_failure() ? step(m->basin_turn_deg).c_str() : "", m->search_failure() ? step(m->basin_shift_mm).c_str() : "");
     rows.push_back({{"scene_id", e.key.scene_id}, {"im_id", e.key.image_id}, {"obj_id", e.obj_id},
                     {"adds_mm", 1000 * e.adds_m}, {"estimate_weight", m->estimate_weight},
                     {"estimate_box", m->estimate_box}, {"truth_weight", m->truth_weight},
                     {"truth_box", m->truth_box}, {"truth_aligned_adds_mm", truth_mm}, {"failure", verdict},
                     {"colour", colour.has_value()}});
+    if (m->search_failure()) {  // JSON has no infinity: null where no step reaches the estimate
+      const auto value = [](double v) { return std::isinf(v) ? nlohmann::json() : nlohmann::json(v); };
+      rows.back()["basin_turn_deg"] = value(m->basin_turn_deg);
+      rows.back()["basin_shift_mm"] = value(m->basin_shift_mm);
+    }
   }
   std::printf("%d answers: %d search failures, %d weight failures\n", search + weight, search, weight);
+  if (!turns.empty()) {
+    const auto median = [](std::vector<double> v) {
+      std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+      return v[v.size() / 2];
+    };
+    std::printf("search failures' basin, median: %s deg, %s mm\n", step(median(turns)).c_str(),
+                step(median(moves)).c_str());
+  }
   if (!a.json.empty()) {
     const nlohmann::json doc = {{"min_adds_mm", a.min_adds_mm}, {"as_filter", a.as_filter}, {"search_failures", search},
                                 {"weight_failures", weight}, {"misses", rows}};

@@ -1,7 +1,12 @@
 #include "mcpose/analysis/miss_weight.h"
 
+#include <iterator>
+#include <limits>
 #include <memory>
+#include <numbers>
 #include <vector>
+
+#include <Eigen/Geometry>
 
 #include "analysis/scorer.h"
 #include "engine/box_scorer.h"
@@ -42,6 +47,36 @@ StatusOr<MissWeight> WeighMiss(Scorer& weigher, const Intrinsics& K, const Depth
     if (we > out.estimate_weight) out.estimate_weight = we, out.estimate_box = b;
     if (wt > out.truth_weight) out.truth_weight = wt, out.truth_box = b, out.truth_aligned = aligned[static_cast<size_t>(b)];
   }
+  if (!out.search_failure()) return out;
+
+  // ---- The basin: the aligned truth turned about each model axis and moved along each camera
+  // axis by each step, weighed in its box -----------------------------------------------------
+  const SE3& T = out.truth_aligned;
+  const Eigen::Vector3d centre = (0.5f * (mesh.BoundsMin() + mesh.BoundsMax())).cast<double>();
+  constexpr int kSteps = static_cast<int>(std::size(kBasinSteps));
+  filter::ParticleSet probes;
+  probes.Resize(static_cast<size_t>(2 * 3 * kSteps));
+  for (int s = 0; s < kSteps; ++s) {
+    for (int axis = 0; axis < 3; ++axis) {
+      const Eigen::Matrix3d S =
+          Eigen::AngleAxisd(kBasinSteps[s] * std::numbers::pi / 180, Eigen::Vector3d::Unit(axis)).toRotationMatrix();
+      const size_t turn = static_cast<size_t>(3 * s + axis), move = static_cast<size_t>(3 * (kSteps + s) + axis);
+      // X -> S (X - c) + c in the model frame, then T.
+      probes.R_cam_obj[turn] = T.R * S, probes.t_cam_obj_m[turn] = T.R * (centre - S * centre) + T.t;
+      probes.R_cam_obj[move] = T.R, probes.t_cam_obj_m[move] = T.t + kBasinSteps[s] / 1000 * Eigen::Vector3d::Unit(axis);
+    }
+  }
+  std::fill(probes.box.begin(), probes.box.end(), out.truth_box);
+  scorer->Weigh(&probes, &counters);
+  const auto first_step_below = [&](int kind) {  // kind 0: turns, 1: moves
+    for (int s = 0; s < kSteps; ++s)
+      for (int axis = 0; axis < 3; ++axis)
+        if (probes.weight[static_cast<size_t>(3 * (kind * kSteps + s) + axis)] <= out.estimate_weight)
+          return kBasinSteps[s];
+    return std::numeric_limits<double>::infinity();
+  };
+  out.basin_turn_deg = first_step_below(0);
+  out.basin_shift_mm = first_step_below(1);
   return out;
 }
 

@@ -3,6 +3,10 @@
 // stays on the truth.
 #include "mcpose/analysis/miss_weight.h"
 
+#include <algorithm>
+#include <cmath>
+#include <iterator>
+
 #include <gtest/gtest.h>
 
 #include "mcpose/eval.h"
@@ -52,6 +56,41 @@ TEST(MissWeight, AnEstimateOffTheObjectIsASearchFailure) {
   ASSERT_TRUE(same.ok());
   EXPECT_NEAR(same->estimate_weight, same->truth_weight, 0.005);
   EXPECT_EQ(same->estimate_box, 1);
+}
+
+TEST(MissWeight, TheBasinIsTheNearestProbeThatNoLongerOutweighsTheEstimate) {
+  const Scene s = MakeScene();
+  EstimatorOptions options;
+  options.engine.threads = 1;
+  Scorer context(options);
+  const auto miss_at = [&](double dx) {
+    const SE3 off{s.T_gt.R, s.T_gt.t + Eigen::Vector3d(dx, 0, 0)};
+    auto m = WeighMiss(context, s.frame.K, s.frame.depth, nullptr, s.mesh, s.boxes, off, s.T_gt);
+    EXPECT_TRUE(m.ok()) << m.status().ToString();
+    return m.ok() ? *m : MissWeight{};
+  };
+  const MissWeight near = miss_at(0.01), far = miss_at(0.03);
+  ASSERT_TRUE(near.search_failure());
+  ASSERT_TRUE(far.search_failure());
+  ASSERT_GT(near.estimate_weight, far.estimate_weight);
+  const auto is_step = [](double v) {
+    return std::isinf(v) || std::find(std::begin(kBasinSteps), std::end(kBasinSteps), v) != std::end(kBasinSteps);
+  };
+  for (const MissWeight& m : {near, far}) {
+    EXPECT_TRUE(is_step(m.basin_turn_deg)) << m.basin_turn_deg;
+    EXPECT_TRUE(is_step(m.basin_shift_mm)) << m.basin_shift_mm;
+  }
+  // The truth moved 20 mm along x lies 10 mm beyond the near estimate: it weighs less.
+  EXPECT_LE(near.basin_shift_mm, 20);
+  // A heavier estimate is outweighed by nearer probes: its basin is no wider.
+  EXPECT_LE(near.basin_shift_mm, far.basin_shift_mm);
+  EXPECT_LE(near.basin_turn_deg, far.basin_turn_deg);
+
+  // No search failure, no basin.
+  auto same = WeighMiss(context, s.frame.K, s.frame.depth, nullptr, s.mesh, s.boxes, s.T_gt, s.T_gt);
+  ASSERT_TRUE(same.ok());
+  EXPECT_EQ(same->basin_turn_deg, 0);
+  EXPECT_EQ(same->basin_shift_mm, 0);
 }
 
 TEST(MissWeight, NeedsABox) {

@@ -25,8 +25,19 @@ struct MissWeight {
   double truth_weight = 0;     // the aligned truth's, likewise
   int truth_box = -1;
   SE3 truth_aligned;           // the truth aligned in truth_box
+  // How near the truth a sample must land to outweigh the estimate (in truth_box): the smallest
+  // of kBasinSteps at which the aligned truth turned by that many degrees about a model axis
+  // (through the mesh's bounding-box centre), or moved by that many millimetres along a camera
+  // axis, weighs no more than the estimate; infinity where every such pose still weighs more, 0
+  // for a weight failure. A narrow basin (a few degrees, a few millimetres) beside a broad wrong
+  // pose is what makes a search failure hard to fix with more samples.
+  double basin_turn_deg = 0;
+  double basin_shift_mm = 0;
   bool search_failure() const { return truth_weight > estimate_weight; }
 };
+
+// The turns (degrees) and moves (millimetres) at which the basin is probed, smallest first.
+inline constexpr double kBasinSteps[] = {2.5, 5, 10, 20};
 
 // Weighs `T_est` and `T_gt` (aligned to `depth` in each box as the refinement aligns, with the
 // scorer's refine options) in every box of `boxes` (one class) with `scorer`'s options, at full
