@@ -98,7 +98,8 @@ Status RunMisses(MissesArgs& a) {
                 (std::to_string(e.key.scene_id) + "/" + std::to_string(e.key.image_id)).c_str(),
                 dataset->ObjectName(e.obj_id).c_str(), 1000 * e.adds_m, m->estimate_weight, m->estimate_box,
                 m->truth_weight, m->truth_box, truth_mm, verdict,
-                m->search_failure() ? step(m->basin_turn_deg).c_str() : "", m->search_failure() ? step(m->basin_shift_mm).c_str() : "");
+                m->search_failure() ? step(m->basin_turn_deg).c_str() : "",
+                m->search_failure() ? step(m->basin_shift_mm).c_str() : "");
     rows.push_back({{"scene_id", e.key.scene_id}, {"im_id", e.key.image_id}, {"obj_id", e.obj_id},
                     {"adds_mm", 1000 * e.adds_m}, {"estimate_weight", m->estimate_weight},
                     {"estimate_box", m->estimate_box}, {"truth_weight", m->truth_weight},
