@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <iterator>
 #include <map>
 #include <memory>
 #include <optional>
@@ -51,20 +52,24 @@ Status RunMisses(MissesArgs& a) {
   MCPOSE_ASSIGN_OR_RETURN(EvalReport eval, Evaluate(*dataset, results, &detections, EvalOptions{}));
   analysis::Scorer scorer(o);
   std::map<int, Mesh> meshes;
-  std::printf("Answers with ADD-S >= %.1f mm: %s weight of the estimate and of the truth aligned to\n"
-              "the depth, each at its best over the class's boxes. search: the truth weighs more (the filter\n"
-              "did not find it); weight: the estimate weighs as much or more. basin (search failures): the\n"
-              "smallest turn about a model axis (deg) and move along a camera axis (mm) of the aligned truth,\n"
-              "of 2.5, 5, 10, 20, at which it no longer outweighs the estimate (>20: at none).\n",
-              a.min_adds_mm, a.as_filter ? "the filter's (its level of detail and pixel stride)" : "full-resolution");
-  std::printf("%-10s %-24s %9s %10s %5s %10s %5s %12s %8s %10s %9s\n", "scene/im", "object", "ADD-S mm", "estimate",
-              "box", "truth", "box", "truth mm", "failure", "basin deg", "basin mm");
-  const auto step = [](double v) {
-    if (std::isinf(v)) return std::string(">20");
+  const auto number = [](double v) {
     char text[16];
     std::snprintf(text, sizeof text, "%g", v);
     return std::string(text);
   };
+  const std::string beyond = ">" + number(std::end(analysis::kBasinSteps)[-1]);  // no step reaches the estimate
+  const auto step = [&](double v) { return std::isinf(v) ? beyond : number(v); };
+  std::string steps;
+  for (double s : analysis::kBasinSteps) steps += (steps.empty() ? "" : ", ") + number(s);
+  std::printf("Answers with ADD-S >= %.1f mm: %s weight of the estimate and of the truth aligned to\n"
+              "the depth, each at its best over the class's boxes. search: the truth weighs more (the filter\n"
+              "did not find it); weight: the estimate weighs as much or more. basin (search failures): the\n"
+              "smallest turn about a model axis (deg) and move along a camera axis (mm) of the aligned truth,\n"
+              "of %s, at which it no longer outweighs the estimate (%s: at none).\n",
+              a.min_adds_mm, a.as_filter ? "the filter's (its level of detail and pixel stride)" : "full-resolution",
+              steps.c_str(), beyond.c_str());
+  std::printf("%-10s %-24s %9s %10s %5s %10s %5s %12s %8s %10s %9s\n", "scene/im", "object", "ADD-S mm", "estimate",
+              "box", "truth", "box", "truth mm", "failure", "basin deg", "basin mm");
   std::vector<double> turns, moves;
   nlohmann::json rows = nlohmann::json::array();
   int search = 0, weight = 0;
