@@ -14,6 +14,7 @@ namespace mcpose {
 // request: it would exhaust memory or run for days).
 namespace limits {
 inline constexpr int kMaxSamples = 1'000'000;       // samples (and tracker samples): ~0.2 GB of particles
+inline constexpr int kMaxInitWide = 64;            // init.wide; samples * init.wide <= kMaxSamples too
 inline constexpr int kMaxIterations = 10'000;       // filter, tracker, refinement and twin steps
 inline constexpr int kMaxCdfTable = 1 << 20;        // resample.cdf_table_size entries
 inline constexpr int kMaxThreads = 1024;            // engine.threads
@@ -85,6 +86,17 @@ struct InitOptions {
   // starts as the others. 0.5 (with front_share 0.5: the front samples and the rest samples
   // half each) was chosen on the training videos 0000-0003 and the synthetic set of seed 0.
   double rest_share = 0.5;
+  // The rest samples of a box stand on rays through random points of the box's central
+  // rest_spread share (in width and height), not all on the ray through its centre: the box's
+  // centre is seldom above the object's centre of mass (a jittered box, a part hidden, a long
+  // object at an angle). [0, 1]; 0: the centre ray alone.
+  double rest_spread = 0.5;
+  // The first generation holds `wide` times `samples` samples, weighed once; the next
+  // generation draws `samples` of them as any other does. A sample must land within about 10
+  // degrees and 1 cm of a thin or flat object's pose before the weight prefers it
+  // (docs/engine-notes.md); a wide first look lands more of them there for the cost of
+  // wide - 1 more iterations. [1, limits::kMaxInitWide]; 1: the paper's first generation.
+  int wide = 8;
 };
 
 // Step 3: w = a * N / N_b + b * N / N_r + c * score, a + b + c = 1, with N the depth inliers,
@@ -114,6 +126,11 @@ struct ResampleOptions {
   // hardly select; 0.2 concentrates the search on the best fifth.
   double keep_top_fraction = 0.2;
   int cdf_table_size = 64;  // entries of the coarse threshold table, >= 1
+  // The best round(elite_share * samples) samples pass to the next generation as they are (not
+  // drawn, not diffused); the others are drawn and diffused. A sample that has found the
+  // narrow peak of a thin or flat object's pose then keeps it while the diffusion is still
+  // wider than that peak. [0, keep_top_fraction]; 0: the paper's resampling.
+  double elite_share = 0.15;
 };
 
 // Step 5: Gaussian 6-DoF diffusion, annealed: sigma_k = max(sigma_min, sigma_0 * anneal^k).

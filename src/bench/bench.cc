@@ -151,9 +151,10 @@ StatusOr<std::vector<BenchObject>> RunBench(const Dataset& ds, const BenchOption
         last_generation = weighted;
         return;
       }
+      // As many draws as the loop makes: a generation of eo.samples less its elite.
       naive.Build(weighted.weight, eo.resample.keep_top_fraction);
-      for (size_t i = 0; i < weighted.size(); ++i)
-        naive_reads += naive.Reads(Rng(eo.seed, stream_id, kNaiveStream + static_cast<uint64_t>(iter), i).Uniform());
+      for (int i = engine::EliteCount(eo, eo.samples); i < eo.samples; ++i)
+        naive_reads += naive.Reads(Rng(eo.seed, stream_id, kNaiveStream + static_cast<uint64_t>(iter), static_cast<uint64_t>(i)).Uniform());
     };
     const ObjectEstimate e = engine::RunFilter(*scorer, eo, context.pool(), stream_id, observer);
     r.per_iteration = e.iterations;

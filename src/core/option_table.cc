@@ -89,12 +89,22 @@ const OptionField kFields[] = {
      "Share of each box's samples that start at rest on the plane the box stands on (a stable face of the model "
      "down, turned at random about the plane's normal), taken from the samples not at the front first",
      kSearchOptions},
+    {MCPOSE_OPTION(init.rest_spread, "--init-rest-spread"), 0, 1, false, false, "",
+     "Rest samples stand on rays through random points of this central share of their box (in width and height); "
+     "0: the ray through the box centre",
+     kSearchOptions},
+    {MCPOSE_OPTION(init.wide, "--init-wide"), 1, limits::kMaxInitWide, false, false, "",
+     "The first generation holds this many times --samples samples, weighed once; 1: the paper's", kSearchOptions},
     {MCPOSE_OPTION(init.front_quantile, "--init-front-quantile"), 0, 1, false, false, "",
      "Quantile of the box's valid depths where a front sample's nearest point starts", kSearchOptions},
     {MCPOSE_OPTION(init.depth_quantile, "--init-depth-quantile"), 0, 1, false, false, "",
      "Quantile of the box's valid depths for the other samples and the level of detail", kSearchOptions},
     {MCPOSE_OPTION(resample.keep_top_fraction, "--keep-top"), 0, 1, true, false, "",
      "Resample from this best fraction of samples", kSearchOptions},
+    {MCPOSE_OPTION(resample.elite_share, "--elite"), 0, 1, false, false, "",
+     "The best share of the samples (at most --keep-top) passes to the next generation as it is, not drawn or "
+     "diffused; 0: the paper's resampling",
+     kSearchOptions},
     {MCPOSE_OPTION(resample.cdf_table_size, "--cdf-table"), 1, limits::kMaxCdfTable, false, false, "",
      "Entries of the coarse CDF threshold table", kSearchOptions},
     {MCPOSE_OPTION(diffusion.sigma_t_m, "--sigma-t"), 0, limits::kMaxSigmaM, false, false, "m",

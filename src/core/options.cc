@@ -83,6 +83,18 @@ bool EstimatorOptions::IsValid(std::string* error) const {
     os << "weights must sum to 1 (a + b + c = " << weight.a + weight.b + weight.c << ")";
     return Fail(error, os.str());
   }
+  if (static_cast<int64_t>(samples) * init.wide > limits::kMaxSamples) {
+    std::ostringstream os;
+    os << "samples * init.wide must be at most " << limits::kMaxSamples << " (the first generation), got " << samples
+       << " * " << init.wide;
+    return Fail(error, os.str());
+  }
+  if (resample.elite_share > resample.keep_top_fraction) {
+    std::ostringstream os;
+    os << "resample.elite_share (" << resample.elite_share << ") must not exceed resample.keep_top_fraction ("
+       << resample.keep_top_fraction << "): the elite are the best of the kept samples";
+    return Fail(error, os.str());
+  }
   {
     const double steps = 360.0 / appearance.twin_step_deg;
     if (std::fabs(steps - std::round(steps)) > 1e-9) {

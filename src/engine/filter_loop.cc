@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 
 #include "engine/initialize.h"
 #include "filter/next_generation.h"
@@ -19,6 +20,10 @@ double MsSince(Clock::time_point t0) { return std::chrono::duration<double, std:
 
 }  // namespace
 
+int EliteCount(const EstimatorOptions& options, int generation) {
+  return std::clamp(static_cast<int>(std::lround(options.resample.elite_share * generation)), 0, generation);
+}
+
 ObjectEstimate RunFilter(BoxScorer& scorer, const EstimatorOptions& opt, ThreadPool& pool, uint64_t stream_id,
                          const IterationObserver& observer, const filter::ParticleSet* start) {
   ObjectEstimate result;
@@ -33,13 +38,16 @@ ObjectEstimate RunFilter(BoxScorer& scorer, const EstimatorOptions& opt, ThreadP
   step.flip_rate = opt.diffusion.flip_rate;
   step.flip_center = (0.5f * (mesh.BoundsMin() + mesh.BoundsMax())).cast<double>();
 
-  // 1. Initialize: samples over the boxes in proportion to score.
+  // 1. Initialize: samples over the boxes in proportion to score, init.wide times as many in
+  // the first generation as in the others (or the given start, of the size every generation has).
   filter::ParticleSet particles[2];
   if (start) {
     particles[0] = *start;
   } else {
-    InitializeSamples(scorer, opt, stream_id, &particles[0]);
+    InitializeSamples(scorer, opt, stream_id, &particles[0], opt.samples * opt.init.wide);
   }
+  const int n = start ? static_cast<int>(start->size()) : opt.samples;
+  const int elites = EliteCount(opt, n);  // the kept samples (validated: elite <= keep-top) hold them
   filter::CdfSampler sampler;
   for (int iter = 0, cur = 0; iter < opt.max_iterations; ++iter, cur = 1 - cur) {
     filter::ParticleSet& p = particles[cur];
@@ -77,9 +85,9 @@ ObjectEstimate RunFilter(BoxScorer& scorer, const EstimatorOptions& opt, ThreadP
     step.sigma_r_rad = filter::AnnealedSigma(d.sigma_r_rad, d.sigma_r_min_rad, d.anneal, iter);
     step.sigma_t_m = filter::AnnealedSigma(d.sigma_t_m, d.sigma_t_min_m, d.anneal, iter);
     it.counters.cdf_reads += filter::NextGeneration(p, sampler, step, opt.seed, stream_id,
-                                                    kStepStream + static_cast<uint64_t>(iter), pool,
+                                                    kStepStream + static_cast<uint64_t>(iter), n, elites, pool,
                                                     &particles[1 - cur]);
-    it.counters.cdf_draws += static_cast<int64_t>(p.size());
+    it.counters.cdf_draws += n - std::min(elites, static_cast<int>(sampler.sorted_indices().size()));
     it.iteration_ms = MsSince(start);
   }
   return result;

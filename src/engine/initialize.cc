@@ -150,9 +150,9 @@ int SelectLodLevel(const render::LodChain& lod, const Intrinsics& K, const Mesh&
 }
 
 void InitializeSamples(const BoxScorer& scorer, const EstimatorOptions& options, uint64_t stream_id,
-                       filter::ParticleSet* particles) {
+                       filter::ParticleSet* particles, int count) {
   const Intrinsics& K = scorer.K();
-  const int n = options.samples;
+  const int n = count >= 0 ? count : options.samples;
   std::vector<double> scores;
   for (int b = 0; b < scorer.num_boxes(); ++b) scores.push_back(std::max(scorer.detection(b).score, 1e-6));
   const std::vector<int> per_box = filter::AllocateSamples(scores, n);
@@ -193,7 +193,12 @@ void InitializeSamples(const BoxScorer& scorer, const EstimatorOptions& options,
       (at_front ? fronts : centres) += 1;
       Eigen::Vector3d t;
       if (at_rest) {
-        t = PoseAtRest(*rests, *plane, ray, rng, &p.R_cam_obj[i]);
+        const double spread = options.init.rest_spread;
+        const Eigen::Vector3d rest_ray =
+            spread > 0 ? Eigen::Vector3d((uc + (rng.Uniform() - 0.5) * spread * d.w - K.cx) / K.fx,
+                                         (vc + (rng.Uniform() - 0.5) * spread * d.h - K.cy) / K.fy, 1.0)
+                       : ray;
+        t = PoseAtRest(*rests, *plane, rest_ray, rng, &p.R_cam_obj[i]);
       } else {
         t = at_front ? front->Translation(p.R_cam_obj[i], ray, z_front) : Eigen::Vector3d(ray * z);
       }

@@ -53,7 +53,10 @@ double InitialDepth(const Intrinsics& K, const Mesh& mesh, const Detection& d, c
 int SelectLodLevel(const render::LodChain& lod, const Intrinsics& K, const Mesh& mesh, const Detection& d,
                    const score::BoxObservation& box, const EstimatorOptions& options);
 
+// `count` samples over the boxes of `scorer` in proportion to their scores (options.samples
+// when left out; the filter's first generation holds options.samples * options.init.wide).
+// Sample i draws from Rng(options.seed, stream_id, kInitStream, i).
 void InitializeSamples(const BoxScorer& scorer, const EstimatorOptions& options, uint64_t stream_id,
-                       filter::ParticleSet* particles);
+                       filter::ParticleSet* particles, int count = -1);
 
 }  // namespace mcpose::engine

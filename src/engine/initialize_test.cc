@@ -49,7 +49,8 @@ EstimatorOptions NoJitter() {
   EstimatorOptions o;
   o.samples = 200;
   o.init.sigma_t_m = 0;
-  o.init.rest_share = 0;  // the tests of rest samples set it
+  o.init.rest_share = 0;   // the tests of rest samples set it
+  o.init.rest_spread = 0;  // and this
   return o;
 }
 
@@ -183,6 +184,48 @@ TEST(InitializeSamples, RestSamplesLieOnTheSupportPlane) {
   }
   EXPECT_GE(heights.size(), 2u);  // more than one face down
   EXPECT_LE(*heights.rbegin(), 61);  // none higher than the slab's half length
+}
+
+// With rest_spread 0.5 the rest samples stand on rays through the box's central half: the
+// centre of mass of each projects there, and they spread over it, each still on the plane.
+TEST(InitializeSamples, RestSamplesSpreadOverTheBoxsCentralShare) {
+  const Eigen::Vector3d n = Eigen::Vector3d(0, -0.8, -0.6).normalized();
+  const Scene s = MakeTableScene(n, 0.6);
+  EstimatorOptions o = NoJitter();
+  o.init.rest_share = 1;
+  o.init.rest_spread = 0.5;
+  ASSERT_EQ(o.init.rest_spread, EstimatorOptions{}.init.rest_spread);
+  const filter::ParticleSet p = Initialize(s, o);
+  ASSERT_EQ(p.size(), 200u);
+  const Eigen::Vector3d com = CentreOfMass(s.mesh);
+  const double uc = s.box.x + 0.5 * s.box.w, vc = s.box.y + 0.5 * s.box.h;
+  double widest_u = 0, widest_v = 0;
+  for (size_t i = 0; i < p.size(); ++i) {
+    double lowest = INFINITY;
+    for (const auto& v : s.mesh.vertices_m) lowest = std::min(lowest, n.dot(p.R_cam_obj[i] * v.cast<double>() + p.t_cam_obj_m[i]) + 0.6);
+    EXPECT_NEAR(lowest, 0.0, 2e-3) << "sample " << i;
+    const Eigen::Vector3d c = p.R_cam_obj[i] * com + p.t_cam_obj_m[i];
+    const double du = s.K.fx * c.x() / c.z() + s.K.cx - uc, dv = s.K.fy * c.y() / c.z() + s.K.cy - vc;
+    EXPECT_LE(std::fabs(du), 0.25 * s.box.w + 1e-9) << "sample " << i;
+    EXPECT_LE(std::fabs(dv), 0.25 * s.box.h + 1e-9) << "sample " << i;
+    widest_u = std::max(widest_u, std::fabs(du)), widest_v = std::max(widest_v, std::fabs(dv));
+  }
+  EXPECT_GT(widest_u, 0.2 * s.box.w);
+  EXPECT_GT(widest_v, 0.2 * s.box.h);
+}
+
+TEST(InitializeSamples, AGivenCountOfSamplesIsSpreadOverTheBoxesAsTheSamplesAre) {
+  const Scene s = MakeScene();
+  const EstimatorOptions o = NoJitter();
+  Context context(o);
+  const std::vector<Detection> boxes = {s.box, Detection{1, 1, 5, 0.3, 20, 20, 40, 40}};
+  auto scorer = BoxScorer::Create(context, s.K, s.depth, s.mesh, boxes);
+  ASSERT_TRUE(scorer.ok()) << scorer.status().ToString();
+  filter::ParticleSet wide;
+  InitializeSamples(**scorer, o, 7, &wide, 8 * o.samples);
+  ASSERT_EQ(wide.size(), 1600u);
+  const long first_box = std::count(wide.box.begin(), wide.box.end(), 0);
+  EXPECT_EQ(first_box, 1200);  // scores 0.9 and 0.3: three quarters
 }
 
 TEST(InitializeSamples, RestSamplesComeFromTheCentreSamplesFirst) {

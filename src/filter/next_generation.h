@@ -22,11 +22,14 @@ struct DiffusionStep {
 // The noise of iteration k: max(sigma_min, sigma_0 * anneal^k).
 double AnnealedSigma(double sigma_0, double sigma_min, double anneal, int k);
 
-// next[i] = the sample `sampler` draws for u_i, maybe flipped, diffused; it keeps its parent's
-// box. Sample i draws from its own stream Rng(seed, stream, substream, i): u_i, then (with
-// flips on) the flip, then the noise. Runs on `pool`; any split gives the same samples.
-// Returns the CDF reads of the draws.
+// The next generation, of `count` samples: next[i] for i < elites is the i-th heaviest sample
+// of `current` as it is (elites at most the samples `sampler` keeps); every other next[i] is the
+// sample `sampler` draws for u_i, maybe flipped, diffused. Each keeps its parent's box. Sample i
+// draws from its own stream Rng(seed, stream, substream, i): u_i, then (with flips on) the flip,
+// then the noise. Runs on `pool`; any split gives the same samples. Returns the CDF reads of
+// the draws.
 int64_t NextGeneration(const ParticleSet& current, const CdfSampler& sampler, const DiffusionStep& step,
-                       uint64_t seed, uint64_t stream, uint64_t substream, ThreadPool& pool, ParticleSet* next);
+                       uint64_t seed, uint64_t stream, uint64_t substream, int count, int elites, ThreadPool& pool,
+                       ParticleSet* next);
 
 }  // namespace mcpose::filter
