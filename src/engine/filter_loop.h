@@ -22,8 +22,8 @@ int EliteCount(const EstimatorOptions& options, int generation);
 // Initialize (or start from `start`, samples with their boxes), then score, weigh, resample
 // and diffuse until the mean weight exceeds tau or max_iterations; the answer is the
 // best-weighted sample ever seen. The first generation holds options.init.wide * samples
-// samples (without `start`), every later one `samples` (start's size with it). Depends on (options.seed, stream_id) only, never on the
-// thread count.
+// samples (without `start`), every later one `samples` (start's size with it). Depends on
+// (options.seed, stream_id) only, never on the thread count.
 ObjectEstimate RunFilter(BoxScorer& scorer, const EstimatorOptions& options, ThreadPool& pool, uint64_t stream_id,
                          const IterationObserver& observer = {}, const filter::ParticleSet* start = nullptr);
 

@@ -13,36 +13,26 @@
 namespace mcpose::engine {
 namespace {
 
-// A 320 x 240 frame: a slab's worth of near surface at 0.6 m in the box's left part, a
-// background at 0.9 m; the slab 12 x 4 x 2 cm.
-struct Scene {
-  Intrinsics K{600, 600, 160, 120, 320, 240};
-  DepthImage depth;
-  Mesh mesh;
-  Detection box{1, 1, 5, 0.9, 100, 60, 120, 100};
-};
-
-Scene MakeScene() {
-  Scene s;
-  s.depth.width = 320, s.depth.height = 240;
-  s.depth.depth_m.assign(320 * 240, 0.9f);
-  for (int y = 80; y < 140; ++y)
-    for (int x = 110; x < 200; ++x) s.depth.depth_m[static_cast<size_t>(y) * 320 + x] = 0.6f;
-  testing::AddBox(&s.mesh, Eigen::Vector3f(-0.06f, -0.02f, -0.01f), Eigen::Vector3f(0.06f, 0.02f, 0.01f));
-  return s;
-}
-
 struct Generation {
   std::vector<SE3> poses;
   std::vector<double> weights;
 };
 
-// Runs the loop for `iterations` (tau out of reach) and records each weighed generation.
+// Runs the loop on a 320 x 240 frame (a slab's worth of near surface at 0.6 m in the box, a
+// background at 0.9 m; the slab 12 x 4 x 2 cm) for options.max_iterations, tau out of reach,
+// and records each weighed generation.
 std::vector<Generation> RunLoop(const EstimatorOptions& o, ObjectEstimate* estimate) {
-  const Scene s = MakeScene();
+  const Intrinsics K{600, 600, 160, 120, 320, 240};
+  DepthImage depth;
+  depth.width = 320, depth.height = 240;
+  depth.depth_m.assign(320 * 240, 0.9f);
+  for (int y = 80; y < 140; ++y)
+    for (int x = 110; x < 200; ++x) depth.depth_m[static_cast<size_t>(y) * 320 + x] = 0.6f;
+  Mesh mesh;
+  testing::AddBox(&mesh, Eigen::Vector3f(-0.06f, -0.02f, -0.01f), Eigen::Vector3f(0.06f, 0.02f, 0.01f));
   Context context(o);
-  const std::vector<Detection> boxes = {s.box};
-  auto scorer = BoxScorer::Create(context, s.K, s.depth, s.mesh, boxes);
+  const std::vector<Detection> boxes = {Detection{1, 1, 5, 0.9, 100, 60, 120, 100}};
+  auto scorer = BoxScorer::Create(context, K, depth, mesh, boxes);
   EXPECT_TRUE(scorer.ok()) << scorer.status().ToString();
   std::vector<Generation> generations;
   if (!scorer.ok()) return generations;
@@ -53,18 +43,19 @@ std::vector<Generation> RunLoop(const EstimatorOptions& o, ObjectEstimate* estim
   return generations;
 }
 
-EstimatorOptions Options() {
+// 100 samples, 4 iterations, every one run; the given first generation and elite.
+EstimatorOptions Options(int wide, double elite_share) {
   EstimatorOptions o;
   o.samples = 100;
   o.max_iterations = 4;
-  o.tau = 2;  // never reached: every iteration runs
+  o.tau = 2;  // never reached
+  o.init.wide = wide;
+  o.resample.elite_share = elite_share;
   return o;
 }
 
 TEST(FilterLoop, TheFirstGenerationIsWideAndEveryLaterOneHasTheSamples) {
-  EstimatorOptions o = Options();
-  o.init.wide = 5;
-  o.resample.elite_share = 0.1;
+  const EstimatorOptions o = Options(5, 0.1);
   ObjectEstimate e;
   const std::vector<Generation> g = RunLoop(o, &e);
   ASSERT_EQ(g.size(), 4u);
@@ -77,9 +68,7 @@ TEST(FilterLoop, TheFirstGenerationIsWideAndEveryLaterOneHasTheSamples) {
 }
 
 TEST(FilterLoop, TheEliteOfAGenerationLeadsTheNextUnchangedAndKeepsItsWeight) {
-  EstimatorOptions o = Options();
-  o.init.wide = 2;
-  o.resample.elite_share = 0.15;
+  const EstimatorOptions o = Options(2, 0.15);
   ASSERT_EQ(EliteCount(o, o.samples), 15);
   ObjectEstimate e;
   const std::vector<Generation> g = RunLoop(o, &e);
@@ -106,9 +95,7 @@ TEST(FilterLoop, TheEliteOfAGenerationLeadsTheNextUnchangedAndKeepsItsWeight) {
 }
 
 TEST(FilterLoop, WithoutEliteOrWideFirstGenerationEverySampleIsDrawn) {
-  EstimatorOptions o = Options();
-  o.init.wide = 1;
-  o.resample.elite_share = 0;
+  const EstimatorOptions o = Options(1, 0);
   ObjectEstimate e;
   const std::vector<Generation> g = RunLoop(o, &e);
   ASSERT_EQ(g.size(), 4u);
