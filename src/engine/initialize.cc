@@ -193,11 +193,16 @@ void InitializeSamples(const BoxScorer& scorer, const EstimatorOptions& options,
       (at_front ? fronts : centres) += 1;
       Eigen::Vector3d t;
       if (at_rest) {
+        // The ray through a random point of the box's central `spread` share: the row's offset
+        // drawn first, then the column's (two statements, so the order is the same with every
+        // compiler).
         const double spread = options.init.rest_spread;
-        const Eigen::Vector3d rest_ray =
-            spread > 0 ? Eigen::Vector3d((uc + (rng.Uniform() - 0.5) * spread * d.w - K.cx) / K.fx,
-                                         (vc + (rng.Uniform() - 0.5) * spread * d.h - K.cy) / K.fy, 1.0)
-                       : ray;
+        Eigen::Vector3d rest_ray = ray;
+        if (spread > 0) {
+          const double dv = (rng.Uniform() - 0.5) * spread * d.h;
+          const double du = (rng.Uniform() - 0.5) * spread * d.w;
+          rest_ray = Eigen::Vector3d((uc + du - K.cx) / K.fx, (vc + dv - K.cy) / K.fy, 1.0);
+        }
         t = PoseAtRest(*rests, *plane, rest_ray, rng, &p.R_cam_obj[i]);
       } else {
         t = at_front ? front->Translation(p.R_cam_obj[i], ray, z_front) : Eigen::Vector3d(ray * z);
