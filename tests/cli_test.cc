@@ -428,7 +428,7 @@ TEST_P(CliThreads, SameSeedSameCsvAtAnyThreadCount) {
   for (int threads : {1, 2, 3}) {
     const fs::path out = dir / ("r" + std::to_string(threads) + ".csv");
     const CliResult r = RunCli("estimate --dataset " + testing::YcbvDir() + " --detections " + (dir / "dets.json").string() +
-                                   " --out " + out.string() + " --iterations 6 --seed 5 -q " + GetParam() +
+                                   " --out " + out.string() + " --iterations 6 --init-wide 2 --seed 5 -q " + GetParam() +
                                    " --threads " + std::to_string(threads),
                                dir);
     ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -525,7 +525,7 @@ void ExpectThinBoxRowsEqual(const std::string& name, const std::string& engine_a
       const fs::path out = dir / "r.csv";
       const CliResult r = RunCli("estimate --dataset " + testing::YcbvDir() + " --detections " +
                                      (dir / "dets.json").string() + " --out " + out.string() +
-                                     " --iterations 6 --seed 3 -q --pixel-stride " + stride + " --engine " + engine +
+                                     " --iterations 6 --init-wide 2 --seed 3 -q --pixel-stride " + stride + " --engine " + engine +
                                      extra,
                                  dir);
       ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -565,7 +565,7 @@ TEST(Cli, SimdTargetCapGivesTheSameCsv) {
     const fs::path out = dir / ("r" + cap + ".csv"), json = dir / ("r" + cap + ".json");
     const CliResult r = RunCli("estimate --dataset " + testing::YcbvDir() + " --detections " +
                                    (dir / "dets.json").string() + " --out " + out.string() + " --out-json " +
-                                   json.string() + " --iterations 6 --seed 5 -q" +
+                                   json.string() + " --iterations 6 --init-wide 2 --seed 5 -q" +
                                    (cap.empty() ? "" : " --simd-target " + cap),
                                dir);
     ASSERT_EQ(r.exit_code, 0) << r.err;

@@ -39,6 +39,10 @@ struct SynthDatasetOptions {
   bool IsValid(std::string* error) const;
 };
 
+// Whether `out_dir` can be written: it must not exist, and its parent folder must. WriteSynthDataset
+// checks it again; a caller checks it first to fail before loading the models.
+Status CheckSynthOutFolder(const std::string& out_dir);
+
 // Writes the dataset to `out_dir`, which must not exist: into a fresh folder beside it, renamed
 // into place when every file is written, so that a failed run leaves nothing. `progress` (may be
 // null) after each frame.

@@ -90,7 +90,7 @@ def test_one_estimator_shared_by_threads(ycbv):
     """Threads calling one estimator take turns: each gets the poses of a call made alone."""
     import threading
     dets = [d for d in ycbv.detections_from_gt(seed=2) if d["scene_id"] == 49 and d["image_id"] in (1, 2, 3)]
-    est = mcpose.Estimator(seed=7, threads=1, samples=150, iterations=8)
+    est = mcpose.Estimator(seed=7, threads=1, samples=150, iterations=8, init_wide=2)
     frames = [ycbv.load_frame(49, i) for i in (1, 2, 3)]
     alone = [est.estimate_frame(f, dets, ycbv, seed=s) for f, s in zip(frames, (7, 8, 9))]
     got = [None] * 3
@@ -115,8 +115,9 @@ def test_simd_target_is_per_estimator(ycbv):
     engine = mcpose.EstimatorOptions().engine
     choices = [f for f in mcpose._mcpose.option_fields() if f["key"] == "engine.simd_target"][0]["choices"]
     assert choices[0] == "best" and engine.simd_target == "best"  # then the targets, best first
-    capped = mcpose.Estimator(simd_target=choices[-1], seed=3, threads=2, samples=150, iterations=6)
-    best = mcpose.Estimator(seed=3, threads=2, samples=150, iterations=6)
+    fast = {"seed": 3, "threads": 2, "samples": 150, "iterations": 6, "init_wide": 2}
+    capped = mcpose.Estimator(simd_target=choices[-1], **fast)
+    best = mcpose.Estimator(**fast)
     assert capped.options["engine"]["simd_target"] == choices[-1]
     assert best.options["engine"]["simd_target"] == "best"
     dets = [d for d in ycbv.detections_from_gt(seed=1) if d["scene_id"] == 49 and d["image_id"] == 1]

@@ -26,7 +26,7 @@ def test_track_frame_equals_cli(ycbv, tmp_path):
     assert cli["options"]["samples"] == 200 and cli["options"]["estimator"]["seed"] == 7
 
     tracker = mcpose.Tracker(seed=7, threads=1, track_samples=200, samples=150, iterations=12, twin_refine=3,
-                             refine_iterations=5)
+                             refine_iterations=5, init_wide=2)
     assert tracker.options == {**cli["options"], "estimator": {
         **cli["options"]["estimator"], "engine": {**cli["options"]["estimator"]["engine"], "threads": 1}}}
     got = []

@@ -155,16 +155,23 @@ StatusOr<std::vector<NamedModel>> LoadModelsFolder(const std::string& dir) {
   return out;
 }
 
-Status WriteSynthDataset(const std::vector<NamedModel>& models, const SynthDatasetOptions& options,
-                         const std::string& out_dir, const std::function<void(int, int)>& progress) {
-  std::string error;
-  if (!options.IsValid(&error)) return InvalidArgument("synth options: " + error);
-  if (models.empty()) return InvalidArgument("no models to place");
+Status CheckSynthOutFolder(const std::string& out_dir) {
   const fs::path out = fs::absolute(out_dir).lexically_normal();
   std::error_code ec;
   if (fs::exists(fs::symlink_status(out, ec))) return InvalidArgument(out_dir + ": already exists; synth writes a new folder");
   const fs::path parent = out.parent_path();
   if (!fs::is_directory(parent, ec)) return NotFound(out_dir + ": folder " + parent.string() + " does not exist");
+  return Status::Ok();
+}
+
+Status WriteSynthDataset(const std::vector<NamedModel>& models, const SynthDatasetOptions& options,
+                         const std::string& out_dir, const std::function<void(int, int)>& progress) {
+  std::string error;
+  if (!options.IsValid(&error)) return InvalidArgument("synth options: " + error);
+  if (models.empty()) return InvalidArgument("no models to place");
+  MCPOSE_RETURN_IF_ERROR(CheckSynthOutFolder(out_dir));
+  const fs::path out = fs::absolute(out_dir).lexically_normal();
+  std::error_code ec;
   MCPOSE_ASSIGN_OR_RETURN(const fs::path tmp, io::CreateFolderBeside(out.string(), ".tmp-"));
   Status status;
   try {
