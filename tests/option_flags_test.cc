@@ -77,6 +77,7 @@ const std::vector<FlagCase>& Cases() {
       {{"--colour-smooth", "2"}, {"/appearance/smooth_radius"}},
       {{"--no-colour-drop-clipped"}, {"/appearance/drop_clipped"}},
       {{"--colour-trust-pixels", "30"}, {"/appearance/trust_pixels"}},
+      {{"--colour-hue-first", "4"}, {"/appearance/hue_first_levels"}},
       {{"--colour-ramp", "5"}, {"/appearance/ramp_iterations"}},
       {{"--colour-space", "chroma"}, {"/appearance/space"}},
       {{"--no-resolve-twins"}, {"/appearance/resolve_twins"}},

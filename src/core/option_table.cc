@@ -144,6 +144,10 @@ const OptionField kFields[] = {
      "The colour term's weight grows over this many first iterations; 0: full from the start", kAppearanceOptions},
     {MCPOSE_OPTION(appearance.pixel_step, "--colour-step"), 1, 4, false, false, "",
      "The colour test reads every n-th pixel of each box's grid in x and y", kAppearanceOptions},
+    {MCPOSE_OPTION(appearance.hue_first_levels, "--colour-hue-first"), 0, 255, false, false, "levels",
+     "Intensity-hue: where the model's hue varies by at least this standard deviation, hue alone decides (shading "
+     "does not change it), elsewhere intensity alone; 0: both together",
+     kAppearanceOptions},
     {MCPOSE_OPTION(appearance.smooth_radius, "--colour-smooth"), 0, 3, false, false, "",
      "Each observed colour tested is the mean of the (2 r + 1)^2 pixels around it; 0: the pixel alone",
      kAppearanceOptions},

@@ -77,9 +77,11 @@ TEST(Refinement, AnAlignmentThatLowersTheWeightIsRejected) {
   EstimatorOptions o;
   o.engine.threads = 1;
   o.appearance.weight = 0.9;
-  // Colour's full say, of each pixel alone: the rejection is tested, not the trust or smoothing.
+  // Colour's full say, of each pixel alone, intensity and hue together: the rejection is tested,
+  // not the trust, smoothing or hue first.
   o.appearance.trust_pixels = 0;
   o.appearance.smooth_radius = 0;
+  o.appearance.hue_first_levels = 0;
   o.refine.accept_eps_m = 0;
   Context context(o);
   auto full = FullScorer(context, s, &shifted);

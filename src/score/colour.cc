@@ -45,11 +45,12 @@ ColourStats CountColour(const ColourSample& s, const ColourLookup& g) {
   return out;
 }
 
-double ColourAgreement(const ColourStats& s, int min_pixels) {
+double ColourAgreement(const ColourStats& s, int min_pixels, double hue_first_levels) {
   if (s.n < std::max(min_pixels, 2)) return kNeutralAgreement;
   const double n = static_cast<double>(s.n);
-  double sum = 0;
-  int channels = 0;
+  double r[3] = {0, 0, 0};
+  bool varies[3] = {false, false, false};
+  bool hue_decides = false;
   for (int c = 0; c < 3; ++c) {
     // n^2 times the variances and the covariance (exact in integers, then double).
     const double vm = static_cast<double>(s.n * s.mm[c] - s.m[c] * s.m[c]);
@@ -57,9 +58,18 @@ double ColourAgreement(const ColourStats& s, int min_pixels) {
     const double cov = static_cast<double>(s.n * s.mo[c] - s.m[c] * s.o[c]);
     // A channel that does not vary (a standard deviation under 2 of 255 levels) says nothing.
     if (vm < 4.0 * n * n || vo < 4.0 * n * n) continue;
-    sum += cov / std::sqrt(vm * vo);
-    ++channels;
+    r[c] = cov / std::sqrt(vm * vo);
+    varies[c] = true;
+    if (c > 0 && hue_first_levels > 0 && vm >= hue_first_levels * hue_first_levels * n * n) hue_decides = true;
   }
+  // Hue first: the hue channels where the model's hue varies enough to carry a pattern, the
+  // intensity alone where it does not (an achromatic surface, whose hue is noise).
+  bool use[3] = {varies[0], varies[1], varies[2]};
+  if (hue_first_levels > 0) use[0] = varies[0] && !hue_decides, use[1] = varies[1] && hue_decides, use[2] = varies[2] && hue_decides;
+  double sum = 0;
+  int channels = 0;
+  for (int c = 0; c < 3; ++c)
+    if (use[c]) sum += r[c], ++channels;
   if (channels == 0) return kNeutralAgreement;
   return 0.5 * (1.0 + sum / channels);
 }

@@ -84,12 +84,20 @@ ColourStats CountColour(const ColourSample& sample, const ColourLookup& lookup);
 // The same sums a Highway vector of pixels at a time (colour_simd.cc, dispatched at run time).
 ColourStats CountColourSimd(const ColourSample& sample, const ColourLookup& lookup);
 
-// The colour agreement A of a sample in [0, 1]: (1 + r) / 2, r the mean over red, green and
-// blue of the correlation of model and observed colour over the counted pixels (so a gain or an
-// offset of the light in the frame does not change it). kNeutralAgreement when fewer than
-// `min_pixels` pixels were counted or no channel varies.
+// The colour agreement A of a sample in [0, 1]: (1 + r) / 2, r the mean over the channels of
+// the correlation of model and observed colour over the counted pixels (so a gain or an offset of
+// the light in the frame does not change it); a channel whose model or observed standard
+// deviation is under 2 levels does not count. kNeutralAgreement when fewer than `min_pixels`
+// pixels were counted or no channel varies.
+//
+// Hue first (`hue_first_levels` > 0, for intensity-hue statistics: channel 0 the intensity,
+// 1 and 2 the hue): where a hue channel of the model varies with a standard deviation of at least
+// `hue_first_levels`, r is the mean over the hue channels alone; elsewhere the intensity's
+// alone. Shading changes the intensity of a curved surface, not its hue: where the surface has a
+// coloured pattern its hue tells it, unmisled by the light; an achromatic surface (black print on
+// white) has only its intensity, its hue being noise.
 inline constexpr double kNeutralAgreement = 0.5;
-double ColourAgreement(const ColourStats& stats, int min_pixels);
+double ColourAgreement(const ColourStats& stats, int min_pixels, double hue_first_levels = 0);
 
 
 }  // namespace mcpose::score

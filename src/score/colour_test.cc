@@ -127,5 +127,48 @@ TEST(Colour, AgreementIsOneForTheSamePatternUnderAnyGainAndNeutralWithoutOne) {
   EXPECT_EQ(ColourAgreement(stats(5, pattern, pattern), 10), kNeutralAgreement);  // too few pixels
 }
 
+// Intensity-hue statistics (channel 0 the intensity, 1 and 2 the hue) of n pixels.
+ColourStats IntensityHueStats(int n, auto model, auto observed) {
+  ColourStats s;
+  for (int i = 0; i < n; ++i) {
+    ++s.n;
+    for (int c = 0; c < 3; ++c) {
+      const int64_t m = model(i, c), o = observed(i, c);
+      s.m[c] += m, s.o[c] += o, s.mm[c] += m * m, s.oo[c] += o * o, s.mo[c] += m * o;
+    }
+  }
+  return s;
+}
+
+// Hue first: on a surface with a coloured pattern the hue decides, whatever shading does to the
+// intensity; on an achromatic one the intensity decides, the hue's noise left out.
+TEST(Colour, HueFirstLetsTheHueDecideWhereTheModelHasAColouredPattern) {
+  // A coloured label: hue stripes (standard deviation about 40 levels) and their intensity.
+  auto label = [](int i, int c) { return c == 0 ? 90 + (i % 7) * 20 : 60 + ((i / 3 + c) % 4) * 30; };
+  // The right pose under a lamp at one side: the hue as the label's, the intensity a shading ramp
+  // that has nothing to do with the label's.
+  auto right = [&](int i, int c) { return c == 0 ? 40 + (i * 180) / 300 : label(i, c); };
+  // A twin whose label lies elsewhere: its hue does not match, its intensity happens to follow
+  // the ramp.
+  auto twin_model = [&](int i, int c) { return c == 0 ? 40 + (i * 180) / 300 : label(i + 1, c); };
+  const ColourStats truth = IntensityHueStats(300, label, right);
+  const ColourStats twin = IntensityHueStats(300, twin_model, right);
+  // Intensity and hue together: the shading ramp lets the twin win.
+  EXPECT_LT(ColourAgreement(truth, 20), ColourAgreement(twin, 20));
+  // Hue first: the truth wins; its agreement is its hue's alone, 1.
+  EXPECT_GT(ColourAgreement(truth, 20, 8), ColourAgreement(twin, 20, 8) + 0.15);
+  EXPECT_NEAR(ColourAgreement(truth, 20, 8), 1.0, 1e-12);
+
+  // An achromatic print (black on white): the model's hue varies by a level or three of noise,
+  // so the intensity alone decides; the noisy hue neither helps nor dilutes it.
+  auto print = [](int i, int c) { return c == 0 ? ((i / 4) % 3 == 0 ? 30 : 220) : 85 + (i * 13 + c * 5) % 9 - 4; };
+  auto seen = [](int i, int c) { return c == 0 ? ((i / 4) % 3 == 0 ? 25 : 200) : 85 + (i * 29 + c) % 9 - 4; };
+  const ColourStats achromatic = IntensityHueStats(300, print, seen);
+  EXPECT_NEAR(ColourAgreement(achromatic, 20, 8), 1.0, 1e-12);
+  EXPECT_LT(ColourAgreement(achromatic, 20), 0.9);  // together, the hue's noise pulls it down
+  // 0 leaves the mean of every channel that varies.
+  EXPECT_EQ(ColourAgreement(achromatic, 20, 0), ColourAgreement(achromatic, 20));
+}
+
 }  // namespace
 }  // namespace mcpose::score

@@ -32,15 +32,18 @@ inline double Weight(const InlierCounts& n, double score, const WeightOptions& w
 // It is drawn towards neutral also by how few pixels carry it, by n / (n + trust_pixels) for n
 // the depth inliers of known colour: a correlation over a few pixels is mostly noise, and must
 // not overrule the depth and the box (trust_pixels 0: no such pull).
-inline double VisibleColourAgreement(const InlierCounts& n, int min_pixels, double trust_pixels = 0) {
-  const double a = ColourAgreement(n.colour, min_pixels);
+inline double VisibleColourAgreement(const InlierCounts& n, int min_pixels, double trust_pixels = 0,
+                                     double hue_first_levels = 0) {
+  const double a = ColourAgreement(n.colour, min_pixels, hue_first_levels);
   const double visible = n.rendered > 0 ? static_cast<double>(n.inliers) / n.rendered : 0.0;
   const double pixels = static_cast<double>(n.colour.n);
   const double trust = trust_pixels > 0 ? pixels / (pixels + trust_pixels) : 1.0;
   return kNeutralAgreement + (a - kNeutralAgreement) * visible * trust;
 }
 inline double VisibleColourAgreement(const InlierCounts& n, const AppearanceOptions& appearance) {
-  return VisibleColourAgreement(n, appearance.min_pixels, appearance.trust_pixels);
+  const bool intensity_hue = appearance.space == AppearanceOptions::Space::kIntensityHue;
+  return VisibleColourAgreement(n, appearance.min_pixels, appearance.trust_pixels,
+                                intensity_hue ? appearance.hue_first_levels : 0.0);
 }
 
 // w = (1 - d) (a N / N_b + b N / N_r + c score) + d A', d = appearance.weight.
