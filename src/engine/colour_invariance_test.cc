@@ -1,7 +1,7 @@
 // The colour term in other light: a textured box seen so that its turns are depth twins, its
-// frame re-lit as another camera would see it (synth/photometric.h) or shaded by a lamp at one side. The colour agreement must
-// rank the true pose above every turn in each light, and the whole weight must keep the ranking
-// of the truth and its twins it had in the original light.
+// frame re-lit as another camera would see it (synth/photometric.h) or shaded by a lamp at one
+// side. The colour agreement must rank the true pose above every turn in each light, and the
+// whole weight must keep the ranking of the truth and its twins it had in the original light.
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -143,7 +143,7 @@ ColourStats IntensityHueStats(int n, auto model, auto observed) {
 // Hue first: on a surface with a coloured pattern the hue decides, whatever shading does to the
 // intensity; on an achromatic one the intensity decides, the hue's noise left out.
 TEST(Colour, HueFirstLetsTheHueDecideWhereTheModelHasAColouredPattern) {
-  // A coloured label: hue stripes (standard deviation about 40 levels) and their intensity.
+  // A coloured label: hue stripes (a standard deviation of about 34 levels) and their intensity.
   auto label = [](int i, int c) { return c == 0 ? 90 + (i % 7) * 20 : 60 + ((i / 3 + c) % 4) * 30; };
   // The right pose under a lamp at one side: the hue as the label's, the intensity a shading ramp
   // that has nothing to do with the label's.
