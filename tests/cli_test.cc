@@ -428,8 +428,8 @@ TEST_P(CliThreads, SameSeedSameCsvAtAnyThreadCount) {
   for (int threads : {1, 2, 3}) {
     const fs::path out = dir / ("r" + std::to_string(threads) + ".csv");
     const CliResult r = RunCli("estimate --dataset " + testing::YcbvDir() + " --detections " + (dir / "dets.json").string() +
-                                   " --out " + out.string() + " --iterations 6 --init-wide 2 --seed 5 -q " + GetParam() +
-                                   " --threads " + std::to_string(threads),
+                                   " --out " + out.string() + " --iterations 6 --init-wide 2 --seed 5 -q " +
+                                   GetParam() + " --threads " + std::to_string(threads),
                                dir);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     runs.push_back(RowsWithoutTime(out));
@@ -525,7 +525,8 @@ void ExpectThinBoxRowsEqual(const std::string& name, const std::string& engine_a
       const fs::path out = dir / "r.csv";
       const CliResult r = RunCli("estimate --dataset " + testing::YcbvDir() + " --detections " +
                                      (dir / "dets.json").string() + " --out " + out.string() +
-                                     " --iterations 6 --init-wide 2 --seed 3 -q --pixel-stride " + stride + " --engine " + engine +
+                                     " --iterations 6 --init-wide 2 --seed 3 -q --pixel-stride " + stride +
+                                     " --engine " + engine +
                                      extra,
                                  dir);
       ASSERT_EQ(r.exit_code, 0) << r.err;

@@ -50,7 +50,8 @@ Status RunSynth(SynthArgs& a) {
   if (!a.camera.empty()) MCPOSE_RETURN_IF_ERROR(ReadCamera(a.camera, &s.camera));
   std::string error;
   if (!a.options.IsValid(&error)) return InvalidArgument("invalid synth options: " + error);
-  MCPOSE_RETURN_IF_ERROR(synth::CheckSynthOutFolder(a.out));  // before reading the models (seconds for textured models)
+  // Before reading the models, which takes seconds for textured ones.
+  MCPOSE_RETURN_IF_ERROR(synth::CheckSynthOutFolder(a.out));
   MCPOSE_ASSIGN_OR_RETURN(std::vector<synth::NamedModel> models, synth::LoadModelsFolder(a.models));
   const auto progress = [&a](int done, int total) {
     if (a.quiet) return;

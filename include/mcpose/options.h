@@ -220,10 +220,10 @@ struct AppearanceOptions {
   // "rgb", "chroma", "intensity-hue"; Parse: false for another name.
   static const char* SpaceName(Space space);
   static bool ParseSpace(const std::string& name, Space* space);
-  // Hue first (intensity-hue only): where the model's hue varies over the tested pixels with a
-  // standard deviation of at least this many levels (of 255), the colour term compares the hue
-  // alone, which shading does not change; elsewhere the intensity alone (an achromatic surface).
-  // 0 (the default): the mean of intensity and hue everywhere. On the training videos 0000-0003,
+  // Hue first (intensity-hue only; IsValid refuses it with another space): where the model's
+  // hue varies over the tested pixels with a standard deviation of at least this many levels (of
+  // 255), the colour term compares the hue alone, which shading does not change; elsewhere the
+  // intensity alone (an achromatic surface). 0 (the default): the mean of intensity and hue everywhere. On the training videos 0000-0003,
   // 8 gains with the objects' real textures and loses with colour captured from frames
   // (docs/engine-notes.md, "Colour in other light"), so it is for textured models.
   double hue_first_levels = 0;

@@ -116,6 +116,9 @@ bool EstimatorOptions::IsValid(std::string* error) const {
   if (IsHardwareNumerics(engine.backend) && weight.inlier != InlierMode::k1D)
     return Fail(error, "engine.backend " + backend +
                            " counts 1-D inliers only (weight.inlier 1d), as the paper's hardware does");
+  if (appearance.hue_first_levels > 0 && appearance.space != AppearanceOptions::Space::kIntensityHue)
+    return Fail(error, std::string("appearance.hue_first_levels needs appearance.space intensity-hue, not ") +
+                           AppearanceOptions::SpaceName(appearance.space));
   if (engine.backend == RasterBackend::kRtl && !RtlBackendAvailable())
     return Fail(error, "engine.backend rtl needs a build with Verilator (scripts/install_deps.sh installs it; "
                        "the build finds it when configured)");

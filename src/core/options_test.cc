@@ -56,6 +56,14 @@ TEST(EstimatorOptions, EachInvalidFieldIsNamed) {
       {[](EstimatorOptions& o) { o.resample.elite_share = -0.1; }, "resample.elite_share"},
       {[](EstimatorOptions& o) { o.resample.elite_share = 0.3; }, "resample.elite_share (0.3) must not exceed"},
       {[](EstimatorOptions& o) { o.appearance.twin_depth_margin = -0.01; }, "appearance.twin_depth_margin"},
+      {[](EstimatorOptions& o) { o.appearance.hue_first_levels = -1; }, "appearance.hue_first_levels"},
+      {[](EstimatorOptions& o) { o.appearance.hue_first_levels = NAN; }, "appearance.hue_first_levels"},
+      {[](EstimatorOptions& o) { o.appearance.hue_first_levels = 256; }, "appearance.hue_first_levels"},
+      {[](EstimatorOptions& o) {
+         o.appearance.hue_first_levels = 8;
+         o.appearance.space = AppearanceOptions::Space::kChroma;
+       },
+       "appearance.hue_first_levels needs appearance.space intensity-hue, not chroma"},
       {[](EstimatorOptions& o) { o.refine.accept_eps_m = -0.001; }, "refine.accept_eps_m"},
       {[](EstimatorOptions& o) { o.refine.accept_eps_m = NAN; }, "refine.accept_eps_m"},
       {[](EstimatorOptions& o) { o.engine.threads = -1; }, "threads"},

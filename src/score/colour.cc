@@ -64,15 +64,10 @@ double ColourAgreement(const ColourStats& s, int min_pixels, double hue_first_le
   }
   // Hue first: the hue channels where the model's hue varies enough to carry a pattern, the
   // intensity alone where it does not (an achromatic surface, whose hue is noise).
-  bool use[3] = {varies[0], varies[1], varies[2]};
-  if (hue_first_levels > 0) {
-    use[0] = varies[0] && !hue_decides;
-    for (int c = 1; c < 3; ++c) use[c] = varies[c] && hue_decides;
-  }
   double sum = 0;
   int channels = 0;
   for (int c = 0; c < 3; ++c)
-    if (use[c]) sum += r[c], ++channels;
+    if (varies[c] && (hue_first_levels <= 0 || (c > 0) == hue_decides)) sum += r[c], ++channels;
   if (channels == 0) return kNeutralAgreement;
   return 0.5 * (1.0 + sum / channels);
 }

@@ -41,9 +41,7 @@ inline double VisibleColourAgreement(const InlierCounts& n, int min_pixels, doub
   return kNeutralAgreement + (a - kNeutralAgreement) * visible * trust;
 }
 inline double VisibleColourAgreement(const InlierCounts& n, const AppearanceOptions& appearance) {
-  const bool intensity_hue = appearance.space == AppearanceOptions::Space::kIntensityHue;
-  return VisibleColourAgreement(n, appearance.min_pixels, appearance.trust_pixels,
-                                intensity_hue ? appearance.hue_first_levels : 0.0);
+  return VisibleColourAgreement(n, appearance.min_pixels, appearance.trust_pixels, appearance.hue_first_levels);
 }
 
 // w = (1 - d) (a N / N_b + b N / N_r + c score) + d A', d = appearance.weight.
